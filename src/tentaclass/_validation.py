@@ -1,0 +1,107 @@
+"""Input checks for the public API.
+
+Every public function validates its input here, once, at the boundary; the
+private kernels behind it assume clean arrays.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ._typing import ArrayLike, FloatArray
+from .errors import InputError, ShapeError
+
+
+def as_float_array(
+    x: ArrayLike, name: str, *, min_ndim: int = 0, allow_nonfinite: bool = False
+) -> FloatArray:
+    """Convert ``x`` to a float64 array and check its rank and values."""
+    try:
+        arr = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be an array of numbers; could not convert it: {exc}") from exc
+    if arr.ndim < min_ndim:
+        raise ShapeError(
+            f"{name} must have at least {min_ndim} dimension(s), got an array of shape {arr.shape}"
+        )
+    if not allow_nonfinite and not np.all(np.isfinite(arr)):
+        bad = int(np.count_nonzero(~np.isfinite(arr)))
+        raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
+    return arr
+
+
+def as_angle_array(q: ArrayLike, name: str = "joint_angles", *, min_joints: int = 3) -> FloatArray:
+    """Joint-angle array of shape ``(..., n_joints)`` with finite values.
+
+    Checks rank before size: a scalar is refused, the last axis must hold at
+    least ``min_joints`` angles and no axis may be empty.
+    """
+    arr = as_float_array(q, name, min_ndim=1, allow_nonfinite=True)
+    if arr.size == 0:
+        raise ShapeError(f"{name} is empty (shape {arr.shape})")
+    if arr.shape[-1] < min_joints:
+        raise ShapeError(
+            f"{name} must hold at least {min_joints} angles along its last axis, "
+            f"got {arr.shape[-1]} (shape {arr.shape})"
+        )
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.count_nonzero(~np.isfinite(arr)))
+        raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
+    return arr
+
+
+def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int = 2) -> FloatArray:
+    """Point array of shape ``(..., n_points, 2)`` with finite values."""
+    arr = as_float_array(points, name, min_ndim=2, allow_nonfinite=True)
+    if arr.shape[-1] != 2:
+        raise ShapeError(f"{name} must have shape (..., n_points, 2), got shape {arr.shape}")
+    if arr.shape[-2] < min_points:
+        raise ShapeError(
+            f"{name} must hold at least {min_points} points, got {arr.shape[-2]} (shape {arr.shape})"
+        )
+    if arr.size == 0:
+        raise ShapeError(f"{name} is empty (shape {arr.shape})")
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.count_nonzero(~np.isfinite(arr)))
+        raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
+    return arr
+
+
+def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
+    """An integer (not bool) of at least ``minimum``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be an integer, got {value!r}")
+    if value < minimum:
+        raise InputError(f"{name} must be at least {minimum}, got {value}")
+    return int(value)
+
+
+def check_positive_float(value: object, name: str, *, allow_zero: bool = False) -> float:
+    """A finite real number > 0 (or >= 0 with ``allow_zero``)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be a number, got {value!r}")
+    v = float(value)
+    if not np.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        bound = ">= 0" if allow_zero else "> 0"
+        raise InputError(f"{name} must be a finite number {bound}, got {value!r}")
+    return v
+
+
+def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
+    """Binary image of shape ``(..., rows, cols)``: bool, or numbers that are all 0 or 1."""
+    arr = np.asarray(grid)
+    if arr.ndim < 2:
+        raise ShapeError(f"{name} must have at least 2 dimensions, got shape {arr.shape}")
+    if arr.size == 0:
+        raise ShapeError(f"{name} is empty (shape {arr.shape})")
+    if arr.dtype == bool:
+        return arr
+    if not (np.issubdtype(arr.dtype, np.number)):
+        raise InputError(f"{name} must hold 0/1 or bool values, got dtype {arr.dtype}")
+    ok = (arr == 0) | (arr == 1)
+    if not np.all(ok):
+        bad = arr[~ok].ravel()[0]
+        raise InputError(f"{name} must hold only 0 and 1, found {bad!r}")
+    return arr.astype(bool)
