@@ -6,16 +6,34 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 - :mod:`tentaclass.features`: turning function, periodic signal, Fourier features;
 - :mod:`tentaclass.classifiers`: PNN and the end-to-end :class:`TentacleClassifier`;
 - :mod:`tentaclass.datasets`: the thesis's arrays and grids;
-- :mod:`tentaclass.report`: results as columns / JSON.
+- :mod:`tentaclass.report`: results as columns / JSON;
+- :mod:`tentaclass.plotting`: figures (matplotlib, imported lazily).
 """
 
+from .classifiers import PNNClassifier, TentacleClassifier
+from .features import (
+    FourierFeatures,
+    canonical_direction,
+    dft_layer,
+    fourier_features,
+    periodic_signal,
+    turning_function,
+)
 from .geometry import angles_to_points, points_to_angles, resample_closed
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "FourierFeatures",
+    "PNNClassifier",
+    "TentacleClassifier",
     "__version__",
     "angles_to_points",
+    "canonical_direction",
+    "dft_layer",
+    "fourier_features",
+    "periodic_signal",
     "points_to_angles",
     "resample_closed",
+    "turning_function",
 ]

@@ -21,7 +21,9 @@ def as_float_array(
     try:
         arr = np.asarray(x, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be an array of numbers; could not convert it: {exc}") from exc
+        raise InputError(
+            f"{name} must be an array of numbers; could not convert it: {exc}"
+        ) from exc
     if arr.ndim < min_ndim:
         raise ShapeError(
             f"{name} must have at least {min_ndim} dimension(s), got an array of shape {arr.shape}"
@@ -59,7 +61,8 @@ def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int 
         raise ShapeError(f"{name} must have shape (..., n_points, 2), got shape {arr.shape}")
     if arr.shape[-2] < min_points:
         raise ShapeError(
-            f"{name} must hold at least {min_points} points, got {arr.shape[-2]} (shape {arr.shape})"
+            f"{name} must hold at least {min_points} points, "
+            f"got {arr.shape[-2]} (shape {arr.shape})"
         )
     if arr.size == 0:
         raise ShapeError(f"{name} is empty (shape {arr.shape})")

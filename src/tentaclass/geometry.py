@@ -93,12 +93,9 @@ def angles_to_points(
     return out
 
 
-def _wrap_angle(a: FloatArray) -> FloatArray:
-    """Map angles to (-pi, pi]."""
-    return np.pi - np.mod(np.pi - a, 2 * np.pi)
-
-
-def points_to_angles(points: ArrayLike, closed: bool = True, heading: ArrayLike = 0.0) -> FloatArray:
+def points_to_angles(
+    points: ArrayLike, closed: bool = True, heading: ArrayLike = 0.0
+) -> FloatArray:
     """Signed relative turning angles of a polyline or closed outline.
 
     Parameters
@@ -142,7 +139,9 @@ def points_to_angles(points: ArrayLike, closed: bool = True, heading: ArrayLike 
         if p.shape[-2] > 3 and np.all(p[..., 0, :] == p[..., -1, :]):
             p = p[..., :-1, :]
         if p.shape[-2] < 3:
-            raise ShapeError(f"a closed outline needs at least 3 distinct points, got {p.shape[-2]}")
+            raise ShapeError(
+                f"a closed outline needs at least 3 distinct points, got {p.shape[-2]}"
+            )
         edges = np.roll(p, -1, axis=-2) - p
         prev = np.roll(edges, 1, axis=-2)
     else:
@@ -154,7 +153,9 @@ def points_to_angles(points: ArrayLike, closed: bool = True, heading: ArrayLike 
         )
     length = np.hypot(edges[..., 0], edges[..., 1])
     if np.any(length == 0):
-        raise InputError("points contains two consecutive equal points: the turn there is undefined")
+        raise InputError(
+            "points contains two consecutive equal points: the turn there is undefined"
+        )
     cross = prev[..., 0] * edges[..., 1] - prev[..., 1] * edges[..., 0]
     dot = prev[..., 0] * edges[..., 0] + prev[..., 1] * edges[..., 1]
     return np.arctan2(cross, dot)

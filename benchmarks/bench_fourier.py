@@ -1,0 +1,104 @@
+"""Throughput of ``fourier_features`` against numpy.fft, a per-array loop and a bare matmul.
+
+Run: ``.venv/bin/python benchmarks/bench_fourier.py [--arrays 1000000]``.
+All rates come from one run on the same data, so their ratios are meaningful
+even on a busy machine; absolute numbers are not.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from _timing import best_time, markdown_table
+
+from tentaclass.features import fourier_features
+
+
+def numpy_fft_batch(q: np.ndarray) -> np.ndarray:
+    """Reference (a): cumulative sum, ramp, rfft over the whole batch."""
+    n = q.shape[1]
+    e = np.cumsum(q, axis=1) - 2 * np.pi * np.arange(1, n + 1) / n
+    return np.abs(np.fft.rfft(e, axis=1)[:, 1 : n // 2 + 1])
+
+
+def thesis_loop(q: np.ndarray) -> np.ndarray:
+    """Reference (b): one array at a time, as the thesis's MATLAB code did."""
+    n = q.shape[1]
+    ramp = 2 * np.pi * np.arange(1, n + 1) / n
+    out = np.empty((q.shape[0], n // 2))
+    for i, row in enumerate(q):
+        out[i] = np.abs(np.fft.fft(np.cumsum(row) - ramp))[1 : n // 2 + 1]
+    return out
+
+
+def main(
+    n_arrays: int = 1_000_000,
+    ns: tuple[int, ...] = (16, 64, 256),
+    loop_arrays: int = 20_000,
+    repeat: int = 3,
+    seed: int = 0,
+) -> list[dict]:
+    """Measure and print a markdown table; returns the rows."""
+    rng = np.random.default_rng(seed)
+    results = []
+    for n in ns:
+        q = 2 * np.pi / n + rng.normal(0, 0.05, (n_arrays, n))
+        weights = rng.normal(size=(n, n))
+        ours = best_time(lambda q=q: fourier_features(q), repeat)
+        fft = best_time(lambda q=q: numpy_fft_batch(q), repeat)
+        bare = best_time(lambda q=q, w=weights: q @ w, repeat)
+        m = min(loop_arrays, n_arrays)
+        loop = best_time(lambda q=q[:m]: thesis_loop(q), 1) * n_arrays / m
+        np.testing.assert_allclose(fourier_features(q[:100]), numpy_fft_batch(q[:100]), atol=1e-9)
+        results.append(
+            {
+                "n": n,
+                "ours": n_arrays / ours,
+                "fft": n_arrays / fft,
+                "loop": n_arrays / loop,
+                "bare": n_arrays / bare,
+            }
+        )
+    rows = [
+        [
+            r["n"],
+            f"{r['ours']:,.0f}",
+            f"{r['fft']:,.0f}",
+            f"{r['loop']:,.0f}",
+            f"{r['bare']:,.0f}",
+            f"{r['ours'] / r['fft']:.2f}",
+            f"{r['ours'] / r['loop']:.0f}",
+            f"{r['bare'] / r['ours']:.2f}",
+        ]
+        for r in results
+    ]
+    print(f"fourier_features, {n_arrays:,} arrays per n (arrays/s; ratios from the same run)\n")
+    print(
+        markdown_table(
+            [
+                "n",
+                "fourier_features",
+                "numpy.fft batch",
+                "per-array loop",
+                "bare matmul",
+                "speed-up vs fft",
+                "speed-up vs loop",
+                "bare / ours (goal <= 2 at n=64)",
+            ],
+            rows,
+        )
+    )
+    return results
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--arrays", type=int, default=1_000_000)
+    parser.add_argument("--loop-arrays", type=int, default=20_000)
+    args = parser.parse_args()
+    main(args.arrays, loop_arrays=args.loop_arrays)

@@ -1,0 +1,77 @@
+"""Shared prediction logic of the probabilistic classifiers.
+
+As in scikit-learn's ``_BaseNB``: a subclass writes one method,
+``_joint_log_likelihood(X)``, returning the unnormalised log score of every
+class, and inherits ``predict``, ``predict_proba`` and ``predict_log_proba``,
+normalised with log-sum-exp so that scores far below the float range (all
+kernel values underflowing to zero) still give valid probabilities.
+"""
+
+from __future__ import annotations
+
+from abc import abstractmethod
+
+import numpy as np
+from scipy.special import logsumexp
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.utils.validation import check_is_fitted, validate_data
+
+from .._typing import ArrayLike, FloatArray
+
+
+class BaseProbabilisticClassifier(ClassifierMixin, BaseEstimator):
+    """Base class: predictions from per-class log scores."""
+
+    @abstractmethod
+    def _joint_log_likelihood(self, X: FloatArray) -> FloatArray:
+        """Unnormalised log score of each class, shape (n_samples, n_classes)."""
+
+    def _check_X(self, X: ArrayLike) -> FloatArray:
+        check_is_fitted(self)
+        return validate_data(self, X, dtype=np.float64, reset=False)
+
+    def predict_log_proba(self, X: ArrayLike) -> FloatArray:
+        """Log of the class probabilities.
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_features)
+
+        Returns
+        -------
+        log_proba : ndarray of shape (n_samples, n_classes)
+            Columns in the order of ``classes_``.
+        """
+        jll = self._joint_log_likelihood(self._check_X(X))
+        return jll - logsumexp(jll, axis=1, keepdims=True)
+
+    def predict_proba(self, X: ArrayLike) -> FloatArray:
+        """Class probabilities; each row sums to 1.
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_features)
+
+        Returns
+        -------
+        proba : ndarray of shape (n_samples, n_classes)
+            Columns in the order of ``classes_``.
+        """
+        return np.exp(self.predict_log_proba(X))
+
+    def predict(self, X: ArrayLike) -> np.ndarray:
+        """Most probable class of each sample.
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_features)
+
+        Returns
+        -------
+        labels : ndarray of shape (n_samples,)
+        """
+        return self._decide(self._joint_log_likelihood(self._check_X(X)))
+
+    def _decide(self, jll: FloatArray) -> np.ndarray:
+        """Labels from log scores: the most probable class (Bayes rule)."""
+        return self.classes_[np.argmax(jll, axis=1)]

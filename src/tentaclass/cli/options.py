@@ -1,0 +1,104 @@
+"""Parsing shared by the commands: angle lists and angle files.
+
+Angles are numbers or simple expressions of pi (``pi/2``, ``2*pi/3``,
+``-pi/8``, ``2pi``), matched by a regular expression: nothing is evaluated.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import click
+import numpy as np
+
+_NUM = r"(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?"
+_ANGLE = re.compile(
+    rf"^(?P<sign>[+-]?)(?:(?P<coef>{_NUM})\s*\*?\s*)?(?P<pi>pi|π)?(?:\s*/\s*(?P<den>{_NUM}))?$",
+    re.IGNORECASE,
+)
+_SPLIT = re.compile(r"[\s,;]+")
+
+
+def parse_angle(token: str) -> float:
+    """One angle: a number or ``[sign][coef][*]pi[/den]``.
+
+    >>> parse_angle("-pi/8") == -np.pi / 8, parse_angle("2*pi/3") == 2 * np.pi / 3
+    (True, True)
+    >>> parse_angle("0.5")
+    0.5
+    """
+    m = _ANGLE.match(token.strip())
+    if not m or (m["coef"] is None and m["pi"] is None):
+        raise ValueError(
+            f"{token!r} is not a number or an expression of pi such as pi/2, 2*pi/3, -pi/8"
+        )
+    value = float(m["coef"]) if m["coef"] is not None else 1.0
+    if m["pi"]:
+        value *= np.pi
+    if m["den"] is not None:
+        den = float(m["den"])
+        if den == 0:
+            raise ValueError(f"{token!r} divides by zero")
+        value /= den
+    return -value if m["sign"] == "-" else value
+
+
+def parse_angle_list(text: str) -> np.ndarray:
+    """Angles separated by spaces, commas or semicolons, optionally in brackets.
+
+    >>> parse_angle_list("[0 0 0 pi/2]").round(4).tolist()
+    [0.0, 0.0, 0.0, 1.5708]
+    """
+    body = text.strip().strip("[]()").strip()
+    tokens = [t for t in _SPLIT.split(body) if t]
+    if not tokens:
+        raise ValueError("the angle list is empty")
+    return np.array([parse_angle(t) for t in tokens])
+
+
+def read_angle_file(path: Path) -> np.ndarray:
+    """Arrays of joint angles from a ``.npy`` file or a text/CSV file, one per row."""
+    if path.suffix.lower() == ".npy":
+        try:
+            arr = np.load(path, allow_pickle=False)
+        except (ValueError, OSError) as exc:
+            raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
+        if arr.ndim not in (1, 2) or not np.issubdtype(arr.dtype, np.number):
+            raise ValueError(
+                f"{path}: expected a 1-D or 2-D numeric array, got {arr.dtype} {arr.shape}"
+            )
+        return np.atleast_2d(arr.astype(np.float64))
+    rows = []
+    try:
+        lines = path.read_text().splitlines()
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not a text file") from exc
+    for lineno, line in enumerate(lines, 1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        try:
+            rows.append(parse_angle_list(line))
+        except ValueError as exc:
+            raise ValueError(f"{path}, line {lineno}: {exc}") from exc
+    if not rows:
+        raise ValueError(f"{path}: no angle arrays found")
+    lengths = {r.size for r in rows}
+    if len(lengths) > 1:
+        raise ValueError(f"{path}: rows have different numbers of angles {sorted(lengths)}")
+    return np.vstack(rows)
+
+
+class AngleList(click.ParamType):
+    """Click type for an angle list given on the command line."""
+
+    name = "ANGLES"
+
+    def convert(self, value, param, ctx):  # noqa: D102
+        if isinstance(value, np.ndarray):
+            return value
+        try:
+            return parse_angle_list(value)
+        except ValueError as exc:
+            self.fail(str(exc), param, ctx)

@@ -1,0 +1,235 @@
+"""Fourier features of the periodic turning signal (thesis chapter 4).
+
+The thesis's feature vector is ``|DFT(E)|`` at frequencies ``1..floor(n/2)``,
+where ``E`` is the periodic signal of eq 4.5. Dropping the DC term makes it
+invariant to rotation, taking magnitudes makes it invariant to the start
+point (a cyclic shift of ``q``), and equal link lengths make it invariant to
+scale.
+
+Everything from ``q`` to the complex coefficients is linear, so for short
+chains the whole transform - cumulative sum, ramp and DFT - folds into one
+``(n, 2 * n_coeffs)`` weight matrix: a batch costs one matrix product plus a
+magnitude, which beats ``numpy.fft`` on the batch for small ``n``
+(see ``benchmarks/bench_fourier.py``). Long chains use the FFT.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from .._typing import ArrayLike, FloatArray
+from .._validation import as_angle_array, check_positive_float, check_positive_int
+from ..errors import InputError
+
+__all__ = ["dft_layer", "fourier_features"]
+
+#: Chains up to this many joints use the folded matrix product; longer ones the FFT.
+#: Chosen by measurement (benchmarks/bench_fourier.py).
+MATMUL_MAX_JOINTS = 128
+
+#: Rows per block in the matrix-product path: keeps each block in cache.
+_BLOCK_ROWS = 2048
+
+
+def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
+    """Fixed weights of the thesis's linear two-layer "MLP": a DFT as matrices.
+
+    Parameters
+    ----------
+    n : int
+        Signal length.
+
+    Returns
+    -------
+    w_cos : ndarray of shape (n, n)
+        ``w_cos[k, j] = cos(2 pi k j / n)``.
+    w_minus_sin : ndarray of shape (n, n)
+        ``w_minus_sin[k, j] = -sin(2 pi k j / n)``.
+
+    Notes
+    -----
+    For a real signal ``x`` of shape ``(..., n)``,
+    ``numpy.fft.fft(x) == x @ w_cos.T + 1j * (x @ w_minus_sin.T)``: the network
+    is not trained, it computes the real and imaginary parts of the DFT. The
+    phases are reduced with ``(k * j) % n`` in integers, so the weights are exact
+    to the last bit of the sine and cosine.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> w_cos, w_sin = dft_layer(8)
+    >>> x = np.arange(8.0)
+    >>> bool(np.allclose(x @ w_cos.T + 1j * (x @ w_sin.T), np.fft.fft(x)))
+    True
+    """
+    n = check_positive_int(n, "n")
+    phase = 2 * np.pi * (np.outer(np.arange(n), np.arange(n)) % n) / n
+    return np.cos(phase), -np.sin(phase)
+
+
+@lru_cache(maxsize=32)
+def _folded_weights(
+    n: int, n_coeffs: int, detrend: bool, period: float
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Folded weights of the whole transform, for one chain length.
+
+    Returns ``weights`` (n, 2K + 1), ``flipped`` (n, 2K) and ``offset`` (2K,) such
+    that ``[Re | Im]`` of ``DFT(E)`` at ``k = 1..K`` is ``q @ weights[:, :-1] - offset``
+    for a counter-clockwise row and ``q @ flipped - offset`` for the canonical
+    form ``-q[::-1]`` of a clockwise one; the last column of ``weights`` is all
+    ones, so the same product also yields each row's total turn.
+    """
+    k = np.arange(1, n_coeffs + 1)
+    j = np.arange(n)
+    phase = 2 * np.pi * (np.outer(j, k) % n) / n
+    dft = np.concatenate([np.cos(phase), -np.sin(phase)], axis=1)  # (n, 2K): E @ dft
+    cumsum = np.triu(np.ones((n, n)))  # t = q @ cumsum
+    ramp = np.arange(1, n + 1) / n
+    if detrend:
+        # E = t - t_n * ramp = q @ (cumsum - 1 ramp^T): linear, no offset.
+        linear = (cumsum - ramp[None, :]) @ dft
+        offset = np.zeros(2 * n_coeffs)
+    else:
+        linear = cumsum @ dft
+        offset = (period * ramp) @ dft
+    weights = np.concatenate([linear, np.ones((n, 1))], axis=1)
+    flipped = -linear[::-1].copy()  # (-q[::-1]) @ linear == q @ -linear[::-1]
+    for a in (weights, flipped, offset):
+        a.setflags(write=False)
+    return weights, flipped, offset
+
+
+def _canonical_block(q: FloatArray, canonicalize: bool) -> FloatArray:
+    """Reverse and negate the clockwise rows of one block (a new array if any)."""
+    if canonicalize:
+        cw = q.sum(axis=1) < 0
+        if cw.any():
+            return np.where(cw[:, None], -q[:, ::-1], q)
+    return q
+
+
+def _features_matmul(
+    q: FloatArray,
+    n_coeffs: int,
+    detrend: bool,
+    period: float,
+    canonicalize: bool,
+    out: FloatArray,
+) -> None:
+    weights, flipped, offset = _folded_weights(q.shape[1], n_coeffs, detrend, period)
+    for lo in range(0, q.shape[0], _BLOCK_ROWS):
+        block = q[lo : lo + _BLOCK_ROWS]
+        z = block @ weights
+        if canonicalize:
+            cw = z[:, -1] < 0
+            if cw.any():
+                z[cw, :-1] = block[cw] @ flipped
+        z = z[:, :-1]
+        z -= offset
+        z *= z
+        o = out[lo : lo + _BLOCK_ROWS]
+        # sqrt(re^2 + im^2) in place: np.hypot is several times slower and the
+        # overflow it guards against cannot happen with finite angles.
+        np.add(z[:, :n_coeffs], z[:, n_coeffs:], out=o)
+        np.sqrt(o, out=o)
+
+
+def _features_fft(
+    q: FloatArray,
+    n_coeffs: int,
+    detrend: bool,
+    period: float,
+    canonicalize: bool,
+    out: FloatArray,
+) -> None:
+    n = q.shape[1]
+    ramp = np.arange(1, n + 1) / n
+    for lo in range(0, q.shape[0], _BLOCK_ROWS):
+        t = np.cumsum(_canonical_block(q[lo : lo + _BLOCK_ROWS], canonicalize), axis=1)
+        t -= (t[:, -1:] if detrend else period) * ramp
+        out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_coeffs + 1])
+
+
+def fourier_features(
+    q: ArrayLike,
+    n_coeffs: int | None = None,
+    *,
+    detrend: bool = False,
+    normalize: bool = False,
+    canonicalize: bool = True,
+    period: float = 2 * np.pi,
+    method: str = "auto",
+) -> FloatArray:
+    """Magnitudes of the DFT of the periodic turning signal: the feature vector.
+
+    Parameters
+    ----------
+    q : array_like of shape (..., n_joints)
+        Relative joint angles, at least 3. Leading axes are a batch.
+    n_coeffs : int, optional
+        Keep frequencies ``1..n_coeffs``; default all of ``1..floor(n_joints/2)``.
+    detrend : bool, default=False
+        Use the measured total turn for the ramp (see :func:`periodic_signal`).
+        Recommended for noisy joint angles.
+    normalize : bool, default=False
+        Divide by ``n_joints`` so that chains of different lengths give features
+        on one scale.
+    canonicalize : bool, default=True
+        Map clockwise wraps (negative total turn) to counter-clockwise ones,
+        ``q -> -q[::-1]``, first (:func:`canonical_direction`), so that a wrap
+        either way round gives the same features.
+    period : float, default=2*pi
+        One full turn in the units of ``q``.
+    method : {"auto", "matmul", "fft"}, default="auto"
+        ``"matmul"``: one product with precomputed weights (cumulative sum, ramp
+        and DFT folded together); ``"fft"``: cumulative sum then ``rfft``.
+        ``"auto"`` takes the matrix product up to ``MATMUL_MAX_JOINTS`` joints.
+
+    Returns
+    -------
+    features : ndarray of shape (..., n_coeffs)
+        ``|DFT(E)|_k`` for ``k = 1..n_coeffs``, with
+        ``E_k = t_k - period * k / n`` (eq 4.5).
+
+    Notes
+    -----
+    Invariant to a cyclic shift of ``q`` (start point), to rotation (DC is
+    dropped) and, with ``canonicalize``, to the direction of the wrap.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.tile([0, 0, 0, np.pi / 2], 4)
+    >>> f = fourier_features(square)
+    >>> f.shape
+    (8,)
+    >>> bool(np.allclose(f, fourier_features(np.roll(square, 5))))
+    True
+    >>> bool(np.allclose(f, fourier_features(-square[::-1])))
+    True
+    """
+    q = as_angle_array(q, "q", min_joints=3)
+    period = check_positive_float(period, "period")
+    n = q.shape[-1]
+    if n_coeffs is None:
+        n_coeffs = n // 2
+    n_coeffs = check_positive_int(n_coeffs, "n_coeffs")
+    if n_coeffs > n // 2:
+        raise InputError(
+            f"n_coeffs must be at most floor(n_joints / 2) = {n // 2} "
+            f"for {n} joints, got {n_coeffs}"
+        )
+    if method not in ("auto", "matmul", "fft"):
+        raise InputError(f"method must be one of 'auto', 'matmul', 'fft', got {method!r}")
+    if method == "auto":
+        method = "matmul" if n <= MATMUL_MAX_JOINTS else "fft"
+    batch = q.shape[:-1]
+    flat = np.ascontiguousarray(q.reshape(-1, n))
+    out = np.empty((flat.shape[0], n_coeffs))
+    kernel = _features_matmul if method == "matmul" else _features_fft
+    kernel(flat, n_coeffs, bool(detrend), period, bool(canonicalize), out)
+    if normalize:
+        out /= n
+    return out.reshape(*batch, n_coeffs)

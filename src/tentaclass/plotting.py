@@ -1,0 +1,120 @@
+"""Figures of joint-angle arrays: the thesis's 2 x 2 panel and its parts.
+
+matplotlib is imported lazily; every function takes an optional ``ax`` and
+returns the artists it drew, never calling ``plt.show()``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._typing import ArrayLike
+from ._validation import as_angle_array
+from .features import fourier_features, periodic_signal, turning_function
+from .geometry import angles_to_points
+
+__all__ = [
+    "plot_features",
+    "plot_periodic_signal",
+    "plot_shape",
+    "plot_thesis_panel",
+    "plot_turning",
+]
+
+
+def _axes(ax: Any) -> Any:
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        ax = plt.gca()
+    return ax
+
+
+def _one(q: ArrayLike) -> np.ndarray:
+    q = as_angle_array(q, "q")
+    if q.ndim != 1:
+        raise ValueError(
+            f"plotting takes one joint-angle array of shape (n_joints,), got {q.shape}"
+        )
+    return q
+
+
+def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
+    """Draw the chain traced by the joint angles (unit links); returns the lines."""
+    q = _one(q)
+    ax = _axes(ax)
+    p = angles_to_points(q)
+    kwargs.setdefault("marker", "o")
+    lines = ax.plot(p[:, 0], p[:, 1], **kwargs)
+    ax.plot(p[:1, 0], p[:1, 1], "s", color="black", label="base")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title("shape")
+    return lines
+
+
+def plot_turning(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
+    """Draw the turning function t_k as a step plot; returns the lines."""
+    q = _one(q)
+    ax = _axes(ax)
+    k = np.arange(1, q.size + 1)
+    lines = ax.step(k, turning_function(q), where="post", **kwargs)
+    ax.set_xlabel("link k")
+    ax.set_ylabel("t_k [rad]")
+    ax.set_title("turning function")
+    return lines
+
+
+def plot_periodic_signal(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
+    """Draw the periodic signal E_k = t_k - 2 pi k / n (eq 4.5); returns the lines."""
+    q = _one(q)
+    ax = _axes(ax)
+    k = np.arange(1, q.size + 1)
+    lines = ax.plot(k, periodic_signal(q), marker=".", **kwargs)
+    ax.axhline(0, color="grey", lw=0.5)
+    ax.set_xlabel("link k")
+    ax.set_ylabel("E_k [rad]")
+    ax.set_title("periodic signal")
+    return lines
+
+
+def plot_features(q: ArrayLike, ax: Any = None, **kwargs: Any) -> Any:
+    """Bar chart of the Fourier features |DFT(E)|_k; returns the bar container."""
+    q = _one(q)
+    ax = _axes(ax)
+    f = fourier_features(q)
+    bars = ax.bar(np.arange(1, f.size + 1), f, **kwargs)
+    ax.set_xlabel("frequency k")
+    ax.set_ylabel("|DFT(E)|")
+    ax.set_title("feature vector")
+    return bars
+
+
+def plot_thesis_panel(q: ArrayLike, title: str = "", fig: Any = None) -> Any:
+    """The thesis's 2 x 2 figure: shape, turning function, periodic signal, features.
+
+    Parameters
+    ----------
+    q : array_like of shape (n_joints,)
+    title : str, default=""
+        Figure title, e.g. the class name.
+    fig : matplotlib.figure.Figure, optional
+        Figure to draw into; a new one (not registered with pyplot) by default.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    """
+    if fig is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(9, 7), layout="constrained")
+    axes = fig.subplots(2, 2)
+    plot_shape(q, axes[0, 0])
+    plot_turning(q, axes[0, 1])
+    plot_periodic_signal(q, axes[1, 0])
+    plot_features(q, axes[1, 1])
+    if title:
+        fig.suptitle(title)
+    return fig

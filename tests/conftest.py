@@ -1,0 +1,28 @@
+import os
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("Agg")
+
+SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+MPEG7 = SHARED_DATA / "mpeg7-part-b"
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(12345)
+
+
+@pytest.fixture
+def mpeg7_folder():
+    if not MPEG7.is_dir():
+        pytest.skip(
+            f"MPEG-7 data not found at {MPEG7} (it lives in ../shared/data beside the clone)"
+        )
+    return MPEG7
+
+
+os.environ.setdefault("MPLBACKEND", "Agg")

@@ -1,0 +1,16 @@
+"""Hypothesis strategies shared by the tests."""
+
+import numpy as np
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+
+@st.composite
+def closed_laps(draw, min_n=3, max_n=64):
+    """Joint angles of one closed counter-clockwise lap: sum(q) == 2 pi."""
+    n = draw(st.integers(min_n, max_n))
+    # |q| stays below pi, so the angles a chain measures equal the ones drawn
+    a = min(1.0, (np.pi - 2 * np.pi / n) / 2 - 0.01)
+    noise = draw(hnp.arrays(np.float64, n, elements=st.floats(-a, a, allow_nan=False)))
+    q = 2 * np.pi / n + noise - noise.mean()
+    return q

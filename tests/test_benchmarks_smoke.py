@@ -1,0 +1,20 @@
+"""The benchmark scripts run (tiny sizes, seconds): they do not rot."""
+
+import importlib.util
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+
+
+def load(name):
+    spec = importlib.util.spec_from_file_location(name, BENCH / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_bench_fourier_smoke(capsys):
+    rows = load("bench_fourier").main(n_arrays=300, ns=(16, 64), loop_arrays=50, repeat=1)
+    assert [r["n"] for r in rows] == [16, 64]
+    assert all(r["ours"] > 0 for r in rows)
+    assert "bare matmul" in capsys.readouterr().out

@@ -1,0 +1,136 @@
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from tentaclass.cli.main import cli
+from tentaclass.cli.options import parse_angle, parse_angle_list
+
+SQUARE = "0 0 0 pi/2 0 0 0 pi/2 0 0 0 pi/2 0 0 0 pi/2"
+
+
+def run(*args):
+    return CliRunner().invoke(cli, list(args), catch_exceptions=False)
+
+
+@pytest.mark.parametrize(
+    "text, value",
+    [
+        ("pi/2", np.pi / 2),
+        ("2*pi/3", 2 * np.pi / 3),
+        ("-pi/8", -np.pi / 8),
+        ("2pi", 2 * np.pi),
+        ("1.5", 1.5),
+        ("-.5e1", -5.0),
+        ("PI", np.pi),
+        ("3/4", 0.75),
+        ("+pi", np.pi),
+    ],
+)
+def test_parse_angle(text, value):
+    assert parse_angle(text) == pytest.approx(value)
+
+
+@pytest.mark.parametrize("text", ["x", "pi*pi", "__import__('os')", "1/0", "nan", "inf", "pi/", ""])
+def test_parse_angle_refuses_everything_else(text):
+    with pytest.raises(ValueError):
+        parse_angle(text)
+
+
+def test_parse_angle_list_separators():
+    np.testing.assert_allclose(parse_angle_list("[0, pi/2; 1]"), [0, np.pi / 2, 1])
+
+
+def test_classify_square_table():
+    r = run("classify", SQUARE)
+    assert r.exit_code == 0
+    lines = r.output.splitlines()
+    assert lines[0].split() == ["index", "class", "probability"]
+    assert lines[1].split()[:2] == ["0", "SQUARE"]
+
+
+def test_classify_json():
+    r = run("classify", "--json", SQUARE)
+    rows = json.loads(r.output)
+    assert rows[0]["label"] == "square"
+    assert rows[0]["probability"] == pytest.approx(
+        max(v for k, v in rows[0].items() if k.startswith("p_"))
+    )
+
+
+def test_classify_csv_and_npy_files(tmp_path):
+    from tentaclass.datasets import thesis_tentacle
+
+    X, y = thesis_tentacle(64, return_X_y=True)
+    rolled = np.roll(X, 5, axis=1)
+    npy = tmp_path / "a.npy"
+    np.save(npy, rolled)
+    csv = tmp_path / "a.csv"
+    csv.write_text(
+        "# header comment\n" + "\n".join(",".join(repr(float(v)) for v in row) for row in rolled)
+    )
+    for path in (npy, csv):
+        rows = json.loads(run("classify", "--json", "--file", str(path)).output)
+        assert [r["label"] for r in rows] == y.tolist()
+
+
+def test_classify_any_chain_length():
+    circle = " ".join(["2*pi/24"] * 24)
+    assert "CIRCLE" in run("classify", circle).output
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["classify", "0 0 x"], "not a number"),
+        (["classify", "0 0"], "at least 3"),
+        (["classify"], "either ANGLES or --file"),
+        (["classify", "--file", "missing.csv"], "does not exist"),
+    ],
+)
+def test_classify_bad_input_one_line_error(args, message):
+    r = run(*args)
+    assert r.exit_code != 0
+    assert message in r.output
+    assert "Traceback" not in r.output
+
+
+def test_classify_bad_files(tmp_path):
+    ragged = tmp_path / "r.csv"
+    ragged.write_text("0 0 pi\n0 0 pi pi\n")
+    bad = tmp_path / "b.npy"
+    bad.write_bytes(b"not numpy")
+    nan = tmp_path / "n.npy"
+    np.save(nan, np.array([[0, np.nan, 1.0]]))
+    for path, message in ((ragged, "different numbers"), (bad, "not a readable"), (nan, "NaN")):
+        r = run("classify", "--file", str(path))
+        assert r.exit_code == 1, r.output
+        assert message in r.output
+        assert len(r.output.strip().splitlines()) == 1
+
+
+def test_demo_runs_and_writes_figures(tmp_path):
+    r = run("demo", "--out", str(tmp_path))
+    assert r.exit_code == 0
+    for label in ("SQUARE", "CIRCLE", "TRIANGLE", "RECTANGLE"):
+        assert label in r.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "thesis_circle.png",
+        "thesis_rectangle.png",
+        "thesis_square.png",
+        "thesis_triangle.png",
+    ]
+
+
+def test_python_dash_m_entry_point():
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-m", "tentaclass", "classify", "--json", SQUARE],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert json.loads(out.stdout)[0]["label"] == "square"

@@ -1,0 +1,138 @@
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from strategies import closed_laps
+from tentaclass import angles_to_points, points_to_angles
+from tentaclass.features import (
+    FourierFeatures,
+    canonical_direction,
+    dft_layer,
+    fourier_features,
+    periodic_signal,
+    turning_function,
+)
+
+
+@settings(deadline=None, max_examples=80)
+@given(closed_laps(), st.integers(0, 1000))
+def test_features_invariant_to_start_point(q, shift):
+    np.testing.assert_allclose(
+        fourier_features(np.roll(q, shift)), fourier_features(q), atol=1e-9, rtol=1e-9
+    )
+
+
+@settings(deadline=None, max_examples=80)
+@given(closed_laps(), st.integers(0, 1000))
+def test_features_invariant_to_direction(q, shift):
+    other_way = -np.roll(q, shift)[::-1]
+    np.testing.assert_allclose(fourier_features(other_way), fourier_features(q), atol=1e-9)
+
+
+@settings(deadline=None, max_examples=60)
+@given(closed_laps(max_n=40), st.floats(1e-3, 1e3), st.floats(-np.pi, np.pi))
+def test_features_independent_of_link_length_and_rotation(q, length, rotation):
+    # the chain drawn with other link lengths and rotated measures the same angles
+    p = angles_to_points(q, link_lengths=length, heading=rotation)
+    q_measured = points_to_angles(p, closed=False, heading=rotation)
+    np.testing.assert_allclose(fourier_features(q_measured), fourier_features(q), atol=1e-7)
+
+
+@settings(deadline=None, max_examples=60)
+@given(closed_laps(max_n=40), st.floats(-np.pi, np.pi))
+def test_turning_function_shifts_by_a_constant_under_rotation(q, rotation):
+    p = angles_to_points(q)
+    c, s = np.cos(rotation), np.sin(rotation)
+    rotated = p @ np.array([[c, s], [-s, c]])
+    q_rot = points_to_angles(rotated, closed=False)  # measured from the x axis
+    diff = turning_function(q_rot) - turning_function(q)
+    diff = np.mod(diff - diff[0] + np.pi, 2 * np.pi) - np.pi
+    np.testing.assert_allclose(diff, 0, atol=1e-9)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 8, 15, 16, 64, 101])
+def test_dft_layer_equals_numpy_fft(n, rng):
+    w_cos, w_sin = dft_layer(n)
+    x = rng.normal(size=(5, n))
+    np.testing.assert_allclose(x @ w_cos.T + 1j * (x @ w_sin.T), np.fft.fft(x), atol=1e-12)
+
+
+@pytest.mark.parametrize("n", [3, 4, 16, 63, 64, 200])
+@pytest.mark.parametrize("detrend", [False, True])
+def test_features_equal_definition_for_both_methods(n, detrend, rng):
+    q = rng.normal(0, 0.2, size=(40, n)) + 2 * np.pi / n
+    q[::3] *= -1  # some clockwise rows
+    canon = canonical_direction(q)
+    expected = np.abs(np.fft.fft(periodic_signal(canon, detrend=detrend), axis=-1))[
+        :, 1 : n // 2 + 1
+    ]
+    for method in ("matmul", "fft", "auto"):
+        got = fourier_features(q, detrend=detrend, method=method)
+        np.testing.assert_allclose(got, expected, atol=1e-10)
+
+
+def test_thesis_square_features_known_values():
+    square = np.tile([0, 0, 0, np.pi / 2], 4)
+    f = fourier_features(square)
+    # only every 4th harmonic is non-zero; k = 8 (Nyquist) is sum(E_j (-1)^j) = pi
+    np.testing.assert_allclose(f[[0, 1, 2, 4, 5, 6]], 0, atol=1e-12)
+    np.testing.assert_allclose(f[7], np.pi, atol=1e-12)
+    np.testing.assert_allclose(fourier_features(np.full(16, np.pi / 8)), 0, atol=1e-12)
+
+
+def test_n_coeffs_and_normalize(rng):
+    q = rng.normal(size=(4, 32))
+    full = fourier_features(q)
+    assert full.shape == (4, 16)
+    np.testing.assert_allclose(fourier_features(q, 5), full[:, :5])
+    np.testing.assert_allclose(fourier_features(q, normalize=True), full / 32)
+
+
+def test_detrend_removes_total_turn_drift():
+    q = np.full(16, np.pi / 8) + 0.01  # a circle whose encoders all read 0.01 too much
+    assert fourier_features(q).max() > 0.1
+    np.testing.assert_allclose(fourier_features(q, detrend=True), 0, atol=1e-12)
+
+
+@pytest.mark.parametrize("shape", [(16,), (3, 16), (2, 3, 16), (1, 1, 16)])
+def test_feature_shape_table_and_batch_equals_loop(shape, rng):
+    q = rng.normal(size=shape)
+    f = fourier_features(q)
+    assert f.shape == (*shape[:-1], 8)
+    flat = q.reshape(-1, 16)
+    np.testing.assert_allclose(f.reshape(-1, 8), [fourier_features(r) for r in flat])
+
+
+def test_periodic_signal_ramp_and_degrees():
+    q = np.full(8, 45.0)
+    np.testing.assert_allclose(periodic_signal(q, period=360), 0, atol=1e-12)
+    np.testing.assert_allclose(periodic_signal(np.zeros(4)), -2 * np.pi * np.arange(1, 5) / 4)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"q": [0.0, 1.0]}, "at least 3"),
+        ({"q": [0, np.inf, 0]}, "NaN or infinite"),
+        ({"q": [[]]}, "empty"),
+        ({"q": np.zeros(8), "n_coeffs": 5}, "at most"),
+        ({"q": np.zeros(8), "n_coeffs": 0}, "at least 1"),
+        ({"q": np.zeros(8), "method": "dct"}, "method"),
+        ({"q": "abc"}, "array of numbers"),
+    ],
+)
+def test_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        fourier_features(**kwargs)
+
+
+def test_transformer_matches_function(rng):
+    X = rng.normal(size=(6, 20))
+    t = FourierFeatures(n_coeffs=7, detrend=True).fit(X)
+    np.testing.assert_allclose(t.transform(X), fourier_features(X, 7, detrend=True))
+    assert t.get_feature_names_out().tolist()[:2] == ["fourier1", "fourier2"]
+    with pytest.raises(ValueError, match="features"):
+        t.transform(X[:, :10])
+    with pytest.raises(ValueError, match="n_coeffs"):
+        FourierFeatures(n_coeffs=11).fit(X)
