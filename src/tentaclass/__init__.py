@@ -7,6 +7,7 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 - :mod:`tentaclass.classifiers`: PNN and the end-to-end :class:`TentacleClassifier`;
 - :mod:`tentaclass.datasets`: the thesis's arrays and grids;
 - :mod:`tentaclass.report`: results as columns / JSON;
+- :mod:`tentaclass.manipulator`: kinematics and dynamics of the planar n-link chain;
 - :mod:`tentaclass.plotting`: figures (matplotlib, imported lazily).
 """
 
@@ -20,13 +21,17 @@ from .features import (
     turning_function,
 )
 from .geometry import angles_to_points, points_to_angles, resample_closed
+from .manipulator import ChainKinematics, PlanarChain, Trajectory
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "ChainKinematics",
     "FourierFeatures",
     "PNNClassifier",
+    "PlanarChain",
     "TentacleClassifier",
+    "Trajectory",
     "__version__",
     "angles_to_points",
     "canonical_direction",
