@@ -8,6 +8,7 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 - :mod:`tentaclass.datasets`: the thesis's arrays and grids;
 - :mod:`tentaclass.report`: results as columns / JSON;
 - :mod:`tentaclass.manipulator`: kinematics and dynamics of the planar n-link chain;
+- :mod:`tentaclass.scanner`: the linear object scanner (classes and defects on a belt);
 - :mod:`tentaclass.plotting`: figures (matplotlib, imported lazily).
 """
 
@@ -22,14 +23,20 @@ from .features import (
 )
 from .geometry import angles_to_points, points_to_angles, resample_closed
 from .manipulator import ChainKinematics, PlanarChain, Trajectory
+from .scanner import Defect, Inspection, LineScanner, ScannedObject, ScannerModel
 
 __version__ = "0.1.0"
 
 __all__ = [
     "ChainKinematics",
+    "Defect",
     "FourierFeatures",
+    "Inspection",
+    "LineScanner",
     "PNNClassifier",
     "PlanarChain",
+    "ScannedObject",
+    "ScannerModel",
     "TentacleClassifier",
     "Trajectory",
     "__version__",

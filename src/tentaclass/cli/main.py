@@ -46,8 +46,9 @@ def cli(ctx: click.Context, verbose: int, quiet: bool) -> None:
 def _register() -> None:
     from .classify import classify
     from .demo import demo
+    from .scan import scan
 
-    for command in (classify, demo):
+    for command in (classify, demo, scan):
         cli.add_command(command)
 
 

@@ -1,0 +1,268 @@
+"""``tentaclass scan``: belt rows -> one JSON line per object, as the belt runs.
+
+Reads rows from FILE (or ``-`` for stdin) as text lines of 0/1, a PBM or PNG
+image of the belt, or raw bytes (one byte, 0 or 1, per pixel) with
+``--width``; or generates a belt with ``--simulate N``. Every object is written
+to stdout as one JSON line as soon as it has passed the sensor. A summary goes
+to stderr as one line (``--summary json`` writes it as a last JSON line on
+stdout instead, under the key ``"summary"``). Bad input ends with a one-line
+error on stderr and exit code 1; objects already written stay written.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections import Counter
+from pathlib import Path
+from typing import IO, Any
+
+import click
+import numpy as np
+
+from ..errors import TentaclassError
+
+
+class _CountingReader:
+    """Binary file wrapper that reports bytes read to a callback (progress bar)."""
+
+    def __init__(self, fh: IO[bytes], callback: Any):
+        self._fh, self._cb = fh, callback
+
+    def read(self, n: int = -1) -> bytes:
+        data = self._fh.read(n)
+        self._cb(len(data))
+        return data
+
+
+def _progress(total: int | None, enabled: bool) -> Any:
+    if not enabled or not total:
+        return None
+    from rich.console import Console
+    from rich.progress import BarColumn, DownloadColumn, Progress, TimeRemainingColumn
+
+    progress = Progress(
+        "[progress.description]{task.description}",
+        BarColumn(),
+        DownloadColumn(),
+        TimeRemainingColumn(),
+        console=Console(file=sys.stderr),
+        transient=True,
+    )
+    return progress
+
+
+def _one_line(exc: BaseException) -> str:
+    text = str(exc)
+    return text.splitlines()[0] if text else repr(exc)
+
+
+def _emit(objects: list, stats: Counter, out: list | None) -> None:
+    for obj in objects:
+        click.echo(json.dumps(obj.to_dict()))
+        stats["objects"] += 1
+        stats["accepted" if obj.accept else "rejected"] += 1
+        stats[f"class:{obj.label}"] += 1
+        for d in obj.defects:
+            stats[f"defect:{d.kind}"] += 1
+        if out is not None:
+            out.append(obj)
+
+
+@click.command()
+@click.argument("file", required=False, type=click.Path(dir_okay=False, allow_dash=True))
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["text", "pbm", "png", "raw"]),
+    help="Input format; default detected from the first bytes.",
+)
+@click.option(
+    "--width",
+    type=click.IntRange(min=1),
+    help="Pixels per row (required for raw bytes; belt width for --simulate).",
+)
+@click.option(
+    "--model",
+    "model_file",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="A model saved with ScannerModel.save (.npz); default the thesis's classes.",
+)
+@click.option(
+    "--max-height",
+    type=click.IntRange(min=1),
+    default=1024,
+    show_default=True,
+    help="Objects taller than this (rows) are reported as too tall.",
+)
+@click.option(
+    "--min-area",
+    type=click.IntRange(min=1),
+    default=1,
+    show_default=True,
+    help="Ignore objects of fewer pixels (sensor speckle).",
+)
+@click.option(
+    "--nominal-size",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Nominal object length in pixels; objects off by more than the tolerance are rejected.",
+)
+@click.option(
+    "--size-tolerance",
+    type=click.FloatRange(min=0),
+    default=0.1,
+    show_default=True,
+    help="Allowed relative deviation from --nominal-size.",
+)
+@click.option(
+    "--annotate",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Draw the belt with boxes, labels and defect marks to this PNG "
+    "(keeps the whole belt in memory).",
+)
+@click.option(
+    "--simulate",
+    type=click.IntRange(min=1),
+    metavar="N",
+    help="Scan a generated belt of N random objects (some damaged) instead of FILE.",
+)
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed for --simulate.")
+@click.option(
+    "--write-belt",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="With --simulate: also save the generated belt as a PBM file.",
+)
+@click.option(
+    "--chunk-rows",
+    type=click.IntRange(min=1),
+    default=1024,
+    show_default=True,
+    help="Rows read and processed per step.",
+)
+@click.option(
+    "--summary",
+    type=click.Choice(["stderr", "json"]),
+    default="stderr",
+    show_default=True,
+    help="Where the final summary goes.",
+)
+def scan(
+    file: str | None,
+    fmt: str | None,
+    width: int | None,
+    model_file: Path | None,
+    max_height: int,
+    min_area: int,
+    nominal_size: float | None,
+    size_tolerance: float,
+    annotate: Path | None,
+    simulate: int | None,
+    seed: int,
+    write_belt: Path | None,
+    chunk_rows: int,
+    summary: str,
+) -> None:
+    """Classify and inspect objects on a conveyor belt: FILE (or - for stdin).
+
+    Writes one JSON line per object (id, first_row, last_row, bbox, area,
+    label, confidence, defects, accept, reasons, ...) as soon as the object has
+    passed. Objects are 8-connected groups of 1-pixels.
+    """
+    from ..scanner import LineScanner, ScannerModel
+    from ..scanner.io import read_rows, write_pbm
+    from ..scanner.simulate import make_belt
+
+    if (file is None) == (simulate is None):
+        raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
+    if write_belt is not None and simulate is None:
+        raise click.UsageError("--write-belt needs --simulate")
+    stats: Counter = Counter()
+    kept: list | None = [] if annotate is not None else None
+    belt_rows: list[np.ndarray] | None = [] if annotate is not None else None
+    progress = None
+    opened: IO[bytes] | None = None
+    try:
+        model = ScannerModel.load(model_file) if model_file is not None else None
+        if simulate is not None:
+            belt = make_belt(simulate, width or 256, seed=seed, lanes=max(1, (width or 256) // 128))
+            if write_belt is not None:
+                write_pbm(write_belt, belt.image)
+            source: Any = (
+                belt.image[i : i + chunk_rows] for i in range(0, belt.image.shape[0], chunk_rows)
+            )
+            belt_width = belt.image.shape[1]
+        else:
+            if file == "-":
+                fh: Any = click.open_file("-", "rb")
+                total = None
+            else:
+                try:
+                    fh = opened = open(file, "rb")  # closed in finally below
+                except OSError as exc:
+                    raise TentaclassError(f"cannot open {file}: {exc.strerror or exc}") from exc
+                total = Path(file).stat().st_size
+            progress = _progress(total, sys.stderr.isatty())
+            if progress is not None:
+                progress.start()
+                task = progress.add_task("scanning", total=total)
+                fh = _CountingReader(fh, lambda n: progress.advance(task, n))
+            source = read_rows(fh, fmt=fmt, width=width, chunk_rows=chunk_rows)
+            belt_width = width
+        scanner = None
+        for chunk in source:
+            if scanner is None:
+                w = belt_width or (chunk.shape[1] if isinstance(chunk, np.ndarray) else None)
+                scanner = LineScanner(
+                    w,
+                    model,
+                    max_height=max_height,
+                    min_area=min_area,
+                    nominal_size=nominal_size,
+                    size_tolerance=size_tolerance,
+                )
+            if belt_rows is not None:
+                belt_rows.append(
+                    chunk if isinstance(chunk, np.ndarray) else np.frombuffer(chunk, np.uint8)
+                )
+            _emit(scanner.feed(chunk), stats, kept)
+        if scanner is None:
+            raise TentaclassError("empty stream: no rows found")
+        _emit(scanner.close(), stats, kept)
+        rows, ignored = scanner.rows_seen, scanner.n_ignored
+    except (TentaclassError, ValueError, OSError) as exc:
+        raise click.ClickException(_one_line(exc)) from None
+    finally:
+        if progress is not None:
+            progress.stop()
+        if opened is not None:
+            opened.close()
+    if annotate is not None and belt_rows is not None and kept is not None:
+        from ..scanner.plotting import save_belt_figure
+
+        image = (
+            np.concatenate(belt_rows)
+            if all(r.ndim == 2 for r in belt_rows)
+            else np.concatenate(belt_rows).reshape(-1, scanner.width).astype(bool)
+        )
+        try:
+            save_belt_figure(image, kept, annotate)
+        except (ValueError, OSError) as exc:
+            raise click.ClickException(f"cannot write {annotate}: {_one_line(exc)}") from None
+    result = {
+        "rows": rows,
+        "ignored": ignored,
+        "objects": stats["objects"],
+        "accepted": stats["accepted"],
+        "rejected": stats["rejected"],
+        "classes": {k[6:]: v for k, v in sorted(stats.items()) if k.startswith("class:")},
+        "defects": {k[7:]: v for k, v in sorted(stats.items()) if k.startswith("defect:")},
+    }
+    if summary == "json":
+        click.echo(json.dumps({"summary": result}))
+    else:
+        classes = ", ".join(f"{k} {v}" for k, v in result["classes"].items()) or "none"
+        click.echo(
+            f"scanned {rows} rows: {result['objects']} objects, {result['accepted']} accepted, "
+            f"{result['rejected']} rejected ({classes})",
+            err=True,
+        )

@@ -1,0 +1,216 @@
+"""Frozen result records of the scanner, with ``to_dict()`` for JSON.
+
+Coordinates are ``(row, col)`` in pixels; boxes are half-open
+``(row0, col0, row1, col1)`` (numpy slicing: ``grid[row0:row1, col0:col1]``).
+For :func:`~tentaclass.scanner.inspect` they refer to the grid given; for
+:class:`~tentaclass.scanner.LineScanner` rows count lines from the start of
+the stream and columns pixels across the belt.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+from typing import Any
+
+__all__ = ["DEFECT_KINDS", "Defect", "Inspection", "ScannedObject"]
+
+DEFECT_KINDS: tuple[str, ...] = (
+    "hole",
+    "bite",
+    "broken_corner",
+    "truncated",
+    "burr",
+    "size",
+    "broken",
+    "too_tall",
+)
+"""Kinds of defect: ``hole`` (enclosed gap), missing material (``bite`` at an
+edge, ``broken_corner`` at a vertex of the expected outline, ``truncated``: a
+large part missing or cut off at the grid's edge), extra material (``burr``),
+``size`` (out of tolerance against a nominal size), ``broken`` (the grid
+holds several separate pieces) and ``too_tall`` (object
+taller than a :class:`~tentaclass.scanner.LineScanner`'s ``max_height``)."""
+
+
+@dataclass(frozen=True)
+class Defect:
+    """One defect of an object.
+
+    Attributes
+    ----------
+    kind : str
+        One of :data:`DEFECT_KINDS`.
+    area : int
+        Pixels missing (hole, bite, broken corner, truncated) or extra (burr);
+        0 for ``size`` and ``too_tall``.
+    bbox : tuple of 4 ints
+        Half-open ``(row0, col0, row1, col1)`` box of the defect's pixels.
+    centroid : tuple of 2 floats
+        ``(row, col)`` centre of the defect's pixels.
+    depth : float
+        How far the defect reaches into (or out of) the expected outline, in
+        pixels; for ``size`` the relative deviation from the nominal size.
+    note : str
+        A human-readable description.
+    """
+
+    kind: str
+    area: int
+    bbox: tuple[int, int, int, int]
+    centroid: tuple[float, float]
+    depth: float = 0.0
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict of built-in types (lists for tuples), ready for :func:`json.dumps`."""
+        d = asdict(self)
+        d["bbox"] = list(self.bbox)
+        d["centroid"] = list(self.centroid)
+        return d
+
+    def shifted(self, drow: int, dcol: int) -> Defect:
+        """The same defect with its coordinates moved by ``(drow, dcol)``."""
+        r0, c0, r1, c1 = self.bbox
+        return replace(
+            self,
+            bbox=(r0 + drow, c0 + dcol, r1 + drow, c1 + dcol),
+            centroid=(self.centroid[0] + drow, self.centroid[1] + dcol),
+        )
+
+
+@dataclass(frozen=True)
+class Inspection:
+    """Everything :func:`~tentaclass.scanner.inspect` found out about one object.
+
+    Attributes
+    ----------
+    label : str or None
+        Class of the object; None if it could not be classified (empty grid
+        region, or an object reported ``too_tall``).
+    confidence : float
+        Posterior probability of ``label`` from the model, in [0, 1].
+    bbox : tuple of 4 ints
+        Half-open ``(row0, col0, row1, col1)`` box of the object's pixels.
+    area : int
+        Object pixels (holes not counted).
+    centroid : tuple of 2 floats
+        ``(row, col)`` mean of the object's pixel centres.
+    orientation : float
+        Direction of the long side of the minimum rotated rectangle, degrees in
+        [0, 180) counter-clockwise from the column axis as seen on the image.
+    length, width : float
+        Long and short sides of that rectangle (pixels; a circle's diameter).
+    holes : int
+        Number of holes (also listed in ``defects``).
+    hole_area : int
+        Pixels in all holes.
+    defects : tuple of Defect
+        Defects found, largest first within each kind.
+    accept : bool
+        True when no defect was found.
+    reasons : tuple of str
+        Why the object was rejected (empty when accepted).
+    """
+
+    label: str | None
+    confidence: float
+    bbox: tuple[int, int, int, int]
+    area: int
+    centroid: tuple[float, float]
+    orientation: float
+    length: float
+    width: float
+    holes: int
+    hole_area: int
+    defects: tuple[Defect, ...]
+    accept: bool
+    reasons: tuple[str, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict of built-in types, ready for :func:`json.dumps`.
+
+        Examples
+        --------
+        >>> import json
+        >>> from tentaclass.scanner import inspect
+        >>> r = inspect([[1, 1], [1, 1]])
+        >>> json.loads(json.dumps(r.to_dict()))["label"]
+        'square'
+        """
+        d = asdict(self)
+        d["bbox"] = list(self.bbox)
+        d["centroid"] = list(self.centroid)
+        d["defects"] = [x.to_dict() for x in self.defects]
+        d["reasons"] = list(self.reasons)
+        return d
+
+    def shifted(self, drow: int, dcol: int) -> Inspection:
+        """The same record with all coordinates moved by ``(drow, dcol)``."""
+        r0, c0, r1, c1 = self.bbox
+        return replace(
+            self,
+            bbox=(r0 + drow, c0 + dcol, r1 + drow, c1 + dcol),
+            centroid=(self.centroid[0] + drow, self.centroid[1] + dcol),
+            defects=tuple(x.shifted(drow, dcol) for x in self.defects),
+        )
+
+
+@dataclass(frozen=True)
+class ScannedObject:
+    """One object found on the belt by a :class:`~tentaclass.scanner.LineScanner`.
+
+    Attributes
+    ----------
+    id : int
+        0, 1, 2, ... in the order objects are emitted: by last row, then by
+        first column.
+    first_row, last_row : int
+        First and last line (counted from 0 at the start of the stream) that
+        hold pixels of the object; ``last_row`` is inclusive.
+    inspection : Inspection
+        Class, measures and defects, in belt coordinates.
+    """
+
+    id: int
+    first_row: int
+    last_row: int
+    inspection: Inspection
+
+    @property
+    def label(self) -> str | None:
+        """Class of the object (None if not classified)."""
+        return self.inspection.label
+
+    @property
+    def confidence(self) -> float:
+        """Posterior probability of :attr:`label`."""
+        return self.inspection.confidence
+
+    @property
+    def bbox(self) -> tuple[int, int, int, int]:
+        """Half-open ``(row0, col0, row1, col1)`` box on the belt."""
+        return self.inspection.bbox
+
+    @property
+    def area(self) -> int:
+        """Object pixels."""
+        return self.inspection.area
+
+    @property
+    def defects(self) -> tuple[Defect, ...]:
+        """Defects found."""
+        return self.inspection.defects
+
+    @property
+    def accept(self) -> bool:
+        """True when no defect was found."""
+        return self.inspection.accept
+
+    def to_dict(self) -> dict[str, Any]:
+        """Flat dict: ``id``, ``first_row``, ``last_row`` then the inspection's fields."""
+        return {
+            "id": self.id,
+            "first_row": self.first_row,
+            "last_row": self.last_row,
+            **self.inspection.to_dict(),
+        }

@@ -1,0 +1,166 @@
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from tentaclass.cli.scan import scan
+from tentaclass.datasets import thesis_scanner
+from tentaclass.scanner import ScannerModel
+from tentaclass.scanner.io import write_pbm
+
+BELT = np.zeros((14, 12), dtype=np.uint8)
+BELT[1:4, 1:4] = 1  # square
+BELT[6:12, 2:5] = 1  # rectangle ...
+BELT[8, 3] = 0  # ... with a hole
+TEXT = "".join("".join(map(str, r)) + "\n" for r in BELT)
+
+
+def _lines(result):
+    return [json.loads(line) for line in result.stdout.splitlines()]
+
+
+def test_text_from_stdin_one_json_line_per_object():
+    result = CliRunner().invoke(scan, ["-"], input=TEXT)
+    assert result.exit_code == 0, result.output
+    objs = _lines(result)
+    assert [(o["id"], o["label"], o["accept"]) for o in objs] == [
+        (0, "square", True),
+        (1, "rectangle", False),
+    ]
+    assert objs[1]["defects"][0]["kind"] == "hole"
+    assert "scanned 14 rows: 2 objects, 1 accepted, 1 rejected" in result.stderr
+
+
+def test_raw_bytes_with_width_and_json_summary(tmp_path):
+    path = tmp_path / "belt.raw"
+    path.write_bytes(BELT.tobytes())
+    result = CliRunner().invoke(scan, [str(path), "--width", "12", "--summary", "json"])
+    assert result.exit_code == 0, result.output
+    *objs, last = _lines(result)
+    assert len(objs) == 2
+    assert last["summary"]["objects"] == 2 and last["summary"]["defects"] == {"hole": 1}
+    assert result.stderr == ""
+    small = CliRunner().invoke(
+        scan, [str(path), "--width", "12", "--min-area", "10", "--summary", "json"]
+    )
+    *objs, last = _lines(small)
+    assert [o["label"] for o in objs] == ["rectangle"] and last["summary"]["ignored"] == 1
+
+
+def test_pbm_and_nominal_size(tmp_path):
+    path = tmp_path / "belt.pbm"
+    write_pbm(path, BELT)
+    result = CliRunner().invoke(scan, [str(path), "--nominal-size", "5"])
+    assert result.exit_code == 0, result.output
+    assert [o["accept"] for o in _lines(result)] == [False, False]
+
+
+def test_bad_value_keeps_objects_already_written():
+    text = TEXT + "000000000000\n" * 2 + "0000x0000000\n"
+    result = CliRunner().invoke(scan, ["-", "--chunk-rows", "15"], input=text)
+    assert result.exit_code == 1
+    assert len(_lines(result)) == 2  # emitted before the bad line was read
+    assert result.stderr.strip().splitlines() == [
+        "Error: line 17 (row 16), column 4: 'x', expected 0 or 1"
+    ]
+    assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("args", "data", "message"),
+    [
+        (["-"], "", "empty stream"),
+        (["-", "--width", "5"], b"\x00\x01\x00", "truncated stream"),
+        (["-"], "0101\n011\n", "has 3 pixels, expected 4"),
+        (["/nonexistent/belt.txt"], None, "cannot open"),
+    ],
+)
+def test_bad_input_one_line_error(args, data, message):
+    result = CliRunner().invoke(scan, args, input=data)
+    assert result.exit_code == 1
+    assert message in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_usage_errors():
+    assert CliRunner().invoke(scan, []).exit_code == 2
+    assert CliRunner().invoke(scan, ["-", "--simulate", "3"]).exit_code == 2
+    assert CliRunner().invoke(scan, ["-", "--write-belt", "x.pbm"]).exit_code == 2
+
+
+def test_simulate_annotate_and_model(tmp_path):
+    d = thesis_scanner()
+    model_path = tmp_path / "model.npz"
+    ScannerModel().fit(d.grids, d.target).save(model_path)
+    png, pbm = tmp_path / "belt.png", tmp_path / "belt.pbm"
+    result = CliRunner().invoke(
+        scan,
+        [
+            "--simulate",
+            "6",
+            "--seed",
+            "3",
+            "--annotate",
+            str(png),
+            "--write-belt",
+            str(pbm),
+            "--model",
+            str(model_path),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert len(_lines(result)) == 6
+    assert png.read_bytes()[:4] == b"\x89PNG" and pbm.read_bytes()[:2] == b"P4"
+    again = CliRunner().invoke(scan, [str(pbm), "--model", str(model_path)])
+    assert again.stdout == result.stdout
+
+
+def test_damaged_model_file(tmp_path):
+    bad = tmp_path / "model.npz"
+    bad.write_bytes(b"PK\x03\x04 not really")
+    result = CliRunner().invoke(scan, ["-", "--model", str(bad)], input=TEXT)
+    assert result.exit_code == 1
+    assert "not a readable model file" in result.stderr
+
+
+def test_progress_bar_when_stderr_is_a_terminal(tmp_path, monkeypatch):
+    import tentaclass.cli.scan as scan_module
+
+    original = scan_module._progress
+    calls = []
+
+    def forced(total, enabled):
+        calls.append((total, enabled))
+        return original(total, True)
+
+    monkeypatch.setattr(scan_module, "_progress", forced)
+    path = tmp_path / "belt.txt"
+    path.write_text(TEXT)
+    result = CliRunner().invoke(scan, [str(path)])
+    assert result.exit_code == 0, result.output
+    assert calls == [(len(TEXT), False)]  # the runner's stderr is not a terminal
+    assert len(_lines(result)) == 2
+
+
+def test_format_and_max_height_options():
+    tall = "010\n" * 8 + "000\n"
+    result = CliRunner().invoke(scan, ["-", "--format", "text", "--max-height", "5"], input=tall)
+    assert result.exit_code == 0, result.output
+    (obj,) = _lines(result)
+    assert obj["label"] is None and obj["defects"][0]["kind"] == "too_tall"
+    wrong = CliRunner().invoke(scan, ["-", "--format", "pbm"], input=TEXT)
+    assert wrong.exit_code == 1 and "PBM" in wrong.stderr
+
+
+def test_annotate_raw_input_and_unwritable_figure(tmp_path):
+    raw = tmp_path / "belt.raw"
+    raw.write_bytes(BELT.tobytes())
+    png = tmp_path / "belt.png"
+    ok = CliRunner().invoke(scan, [str(raw), "--width", "12", "--annotate", str(png)])
+    assert ok.exit_code == 0, ok.output
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    bad = CliRunner().invoke(scan, ["-", "--annotate", str(tmp_path / "no" / "x.png")], input=TEXT)
+    assert bad.exit_code == 1
+    assert len(_lines(bad)) == 2  # the objects were written before the figure failed
+    assert bad.stderr.startswith("Error: cannot write")

@@ -1,0 +1,99 @@
+import io
+
+import numpy as np
+import pytest
+
+from tentaclass.errors import InputError
+from tentaclass.scanner.io import read_belt, read_rows, write_pbm, write_text
+
+IMG = np.zeros((9, 11), dtype=bool)
+IMG[1:4, 2:6] = True
+IMG[5:8, 7:10] = True
+
+
+def _png(image, levels=(0, 255)):
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(np.where(image, levels[1], levels[0]).astype(np.uint8)).save(buf, "PNG")
+    return buf.getvalue()
+
+
+def _text():
+    buf = io.StringIO()
+    write_text(buf, IMG)
+    return buf.getvalue().encode()
+
+
+def _pbm():
+    buf = io.BytesIO()
+    write_pbm(buf, IMG)
+    return buf.getvalue()
+
+
+def _p1():
+    rows = "\n".join(" ".join(str(int(v)) for v in r) for r in IMG)
+    return f"P1\n# a comment\n{IMG.shape[1]} {IMG.shape[0]}\n{rows}\n".encode()
+
+
+@pytest.mark.parametrize(
+    ("data", "kwargs"),
+    [
+        (_text(), {}),
+        (b"# belt\n" + _text().replace(b"1", b"1 "), {}),
+        (_pbm(), {}),
+        (_p1(), {}),
+        (_png(IMG), {}),
+        (IMG.astype(np.uint8).tobytes(), {"width": 11}),
+    ],
+    ids=["text", "text-spaced", "pbm-p4", "pbm-p1", "png", "raw"],
+)
+def test_formats_roundtrip(data, kwargs, tmp_path):
+    assert np.array_equal(read_belt(io.BytesIO(data), **kwargs), IMG)
+    path = tmp_path / "belt"
+    path.write_bytes(data)
+    chunks = list(read_rows(path, chunk_rows=4, **kwargs))
+    if isinstance(chunks[0], bytes):
+        got = np.frombuffer(b"".join(chunks), np.uint8).reshape(-1, 11).astype(bool)
+    else:
+        assert all(len(c) <= 4 for c in chunks)
+        got = np.concatenate(chunks)
+    assert np.array_equal(got, IMG)
+
+
+@pytest.mark.parametrize(
+    ("data", "kwargs", "match"),
+    [
+        (b"0110\n0120\n", {}, r"line 2 \(row 1\), column 2: '2'"),
+        (b"0110\n011\n", {}, r"line 2 \(row 1\) has 3 pixels, expected 4"),
+        (_pbm()[:-5], {}, "truncated PBM"),
+        (_p1()[:-30], {}, "truncated PBM"),
+        (b"P4\nx 3\n", {}, "bad size"),
+        (b"P4\n", {}, "incomplete header"),
+        (_pbm(), {"width": 5}, "11 pixels wide"),
+        (_png(IMG)[:40], {}, "PNG"),
+        (b"\x00\x01\x02", {"width": 3}, "byte value 2"),
+        (b"\x00\x01\x01\x00", {"width": 3}, "truncated stream"),
+        (b"", {}, "empty stream"),
+        (b"0101", {"fmt": "jpeg"}, "fmt must be one of"),
+        (b"0101", {"fmt": "raw"}, "needs the row width"),
+    ],
+)
+def test_bad_input(data, kwargs, match):
+    with pytest.raises(InputError, match=match):
+        read_belt(io.BytesIO(data), **kwargs)
+
+
+def test_grey_png_is_refused():
+    img = np.arange(12, dtype=np.uint8).reshape(3, 4) * 20
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(img).save(buf, "PNG")
+    with pytest.raises(InputError, match="not two-level"):
+        read_belt(io.BytesIO(buf.getvalue()))
+
+
+def test_missing_file():
+    with pytest.raises(InputError, match="cannot open"):
+        read_belt("/nonexistent/belt.txt")

@@ -1,0 +1,64 @@
+import numpy as np
+import pytest
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+
+from tentaclass.datasets import thesis_scanner  # noqa: E402
+from tentaclass.scanner import LineScanner, inspect  # noqa: E402
+from tentaclass.scanner.plotting import (  # noqa: E402
+    DEFECT_COLORS,
+    plot_belt,
+    plot_inspection,
+    save_belt_figure,
+)
+from tentaclass.scanner.simulate import draw_shape, make_belt  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _close():
+    yield
+    plt.close("all")
+
+
+def test_plot_inspection_marks_holes_and_bites():
+    grid = draw_shape("square", (40, 40), 24.0, angle=0.3)
+    grid[18:21, 18:21] = False  # hole
+    grid[8:13, 16:22] = False  # bite from the top edge
+    result = inspect(grid)
+    _, ax = plt.subplots()
+    art = plot_inspection(grid, result, ax=ax)
+    assert art["image"].axes is ax
+    assert art["expected"] is not None
+    kinds = [d.kind for d in result.defects]
+    assert "hole" in kinds
+    colors = [p.get_edgecolor() for p in art["defects"]]
+    assert len(colors) == len(result.defects)
+    assert matplotlib.colors.same_color(colors[0], DEFECT_COLORS["hole"])
+    assert ax.get_title().endswith("REJECT")
+
+
+def test_plot_inspection_new_axes():
+    art = plot_inspection(thesis_scanner().grids[0])
+    assert art["defects"] == [] and "ACCEPT" in art["image"].axes.get_title()
+
+
+def test_plot_belt_and_save(tmp_path):
+    belt = make_belt(5, width=96, lanes=2, seed=2)
+    objs = list(LineScanner(96).scan([belt.image]))
+    _, ax = plt.subplots()
+    art = plot_belt(belt.image, objs, ax=ax)
+    assert len(art["boxes"]) == len(art["labels"]) == len(objs)
+    for box, obj in zip(art["boxes"], objs, strict=True):
+        want = "tab:green" if obj.accept else "tab:red"
+        assert matplotlib.colors.same_color(box.get_edgecolor(), want)
+    assert art["labels"][0].get_text().startswith("0 ")
+    save_belt_figure(belt.image, objs, tmp_path / "belt.png")
+    assert (tmp_path / "belt.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_bad_images():
+    with pytest.raises(ValueError, match="2-D"):
+        plot_belt(np.zeros((2, 2, 2)), [])

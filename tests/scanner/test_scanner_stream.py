@@ -1,0 +1,225 @@
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from tentaclass.errors import InputError
+from tentaclass.scanner import LineScanner
+from tentaclass.scanner.simulate import make_belt
+
+
+def scan(image, chunk, **kwargs):
+    scanner = LineScanner(image.shape[1], **kwargs)
+    out = []
+    for i in range(0, image.shape[0], chunk):
+        out += scanner.feed(image[i : i + chunk])
+    return out + scanner.close()
+
+
+@pytest.fixture(scope="module")
+def belt():
+    return make_belt(16, width=96, lanes=2, gap=(1, 5), seed=11, radius_range=(5.0, 16.0))
+
+
+@pytest.fixture(scope="module")
+def whole(belt):
+    return [o.to_dict() for o in scan(belt.image, belt.image.shape[0])]
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 64])
+def test_results_do_not_depend_on_chunk_size(belt, whole, chunk):
+    assert [o.to_dict() for o in scan(belt.image, chunk)] == whole
+
+
+def test_every_object_found_once_with_its_class(belt, whole):
+    assert len(whole) == len(belt.target)
+    assert [o["id"] for o in whole] == list(range(len(whole)))
+    found = sorted((tuple(o["bbox"]), o["label"]) for o in whole)
+    truth = sorted(
+        (tuple(map(int, b)), str(t)) for b, t in zip(belt.boxes, belt.target, strict=True)
+    )
+    assert [f[0] for f in found] == [t[0] for t in truth]
+    assert np.mean([f[1] == t[1] for f, t in zip(found, truth, strict=True)]) >= 0.9
+
+
+def test_ids_follow_the_last_row(whole):
+    keys = [(o["last_row"], o["bbox"][1]) for o in whole]
+    assert keys == sorted(keys)
+
+
+def test_object_spanning_chunks_is_emitted_once_when_complete():
+    img = np.zeros((20, 12), dtype=bool)
+    img[3:15, 2:8] = True  # 12 rows tall, across the chunk boundaries below
+    scanner = LineScanner(12)
+    assert scanner.feed(img[:5]) == []
+    assert scanner.feed(img[5:10]) == []
+    assert scanner.feed(img[10:15]) == []  # last row 14 is here; row 15 not yet
+    (obj,) = scanner.feed(img[15:16])
+    assert (obj.first_row, obj.last_row, obj.bbox, obj.area) == (3, 14, (3, 2, 15, 8), 72)
+    assert obj.label == "rectangle"
+    assert scanner.feed(img[16:]) == [] and scanner.close() == []
+
+
+def test_side_by_side_touching_edges_and_diagonal_contact():
+    img = np.zeros((8, 10), dtype=np.uint8)
+    img[1:5, 0:3] = 1  # touches the left edge
+    img[1:5, 7:10] = 1  # touches the right edge
+    img[5, 3] = 1  # touches the first block only at a corner: 8-connected, same object
+    objs = scan(img, 3)
+    assert len(objs) == 2
+    left = next(o for o in objs if o.bbox[1] == 0)
+    assert left.area == 13 and left.bbox == (1, 0, 6, 4)
+
+
+def test_object_open_at_the_end_is_emitted_by_close():
+    img = np.zeros((5, 6), dtype=bool)
+    img[2:, 1:4] = True
+    scanner = LineScanner(6)
+    assert scanner.feed(img) == []
+    (obj,) = scanner.close()
+    assert obj.last_row == 4 and obj.label == "square"
+    assert scanner.close() == []
+    with pytest.raises(InputError, match="closed"):
+        scanner.feed(img)
+
+
+def test_memory_is_bounded_by_the_tallest_object(belt):
+    scanner = LineScanner(belt.image.shape[1])
+    tallest = int((belt.boxes[:, 2] - belt.boxes[:, 0]).max())
+    held = 0
+    for row in belt.image:
+        scanner.feed(row)
+        held = max(held, scanner.pending_rows)
+    assert held <= tallest + 1
+
+
+def test_too_tall_object_is_reported_not_dropped():
+    img = np.zeros((60, 10), dtype=bool)
+    img[2:50, 3:6] = True  # a 48-row streak
+    img[52:56, 2:6] = True  # a normal object after it
+    for chunk in (1, 7, 60):
+        objs = scan(img, chunk, max_height=20)
+        assert len(objs) == 2
+        tall, normal = objs
+        assert tall.label is None and not tall.accept
+        assert [d.kind for d in tall.defects] == ["too_tall"]
+        assert (tall.first_row, tall.last_row) == (2, 22)
+        assert normal.label == "square" and normal.first_row == 52
+    assert [o.to_dict() for o in scan(img, 1, max_height=20)] == [
+        o.to_dict() for o in scan(img, 60, max_height=20)
+    ]
+
+
+def test_bytes_in_any_split():
+    img = np.zeros((9, 7), dtype=np.uint8)
+    img[1:4, 1:4] = 1
+    img[5:8, 2:6] = 1
+    data = img.tobytes()
+    ref = [o.to_dict() for o in scan(img, 9)]
+    for step in (1, 5, 7, 13, len(data)):
+        scanner = LineScanner(7)
+        out = []
+        for i in range(0, len(data), step):
+            out += scanner.feed(data[i : i + step])
+        out += scanner.close()
+        assert [o.to_dict() for o in out] == ref
+
+
+def test_bad_rows_are_refused_and_earlier_objects_kept():
+    img = np.zeros((6, 5), dtype=int)
+    img[1:3, 1:3] = 1
+    scanner = LineScanner(5)
+    first = scanner.feed(img[:4])
+    assert len(first) == 1
+    with pytest.raises(InputError, match="row 4 has 4 pixels, expected 5"):
+        scanner.feed(np.zeros((2, 4)))
+    bad = img[4:].copy()
+    bad[1, 2] = 7
+    with pytest.raises(InputError, match=r"row 5, column 2: value 7"):
+        scanner.feed(bad)
+    with pytest.raises(InputError, match="row 4 has 3 pixels"):
+        scanner.feed([[0, 0, 0, 0, 0][:3], [0, 0, 0, 0, 0]])
+    with pytest.raises(InputError, match="byte value 2"):
+        scanner.feed(bytes([0, 0, 2, 0, 0]))
+    with pytest.raises(InputError, match="0/1 or bool"):
+        scanner.feed(np.array([["a"] * 5]))
+    with pytest.raises(InputError, match="shape"):
+        scanner.feed(np.zeros((1, 1, 5)))
+    assert scanner.rows_seen == 4  # the refused chunks changed nothing
+    assert scanner.feed(img[4:]) == [] and scanner.close() == []
+
+
+def test_empty_and_truncated_streams():
+    with pytest.raises(InputError, match="empty stream"):
+        LineScanner(4).close()
+    scanner = LineScanner(4)
+    scanner.feed(bytes([0, 1, 1, 0, 0, 1]))
+    with pytest.raises(InputError, match="truncated stream: row 1 has only 2 of 4 bytes"):
+        scanner.close()
+    with pytest.raises(InputError, match="width"):
+        LineScanner(0)
+
+
+def test_scan_iterator_helper():
+    img = np.zeros((6, 5), dtype=bool)
+    img[1:4, 1:4] = True
+    assert [o.label for o in LineScanner(5).scan(iter(img))] == ["square"]
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 10_000), cuts=st.lists(st.integers(1, 40), min_size=1, max_size=8))
+def test_chunking_invariance_property(seed, cuts):
+    belt = make_belt(4, width=64, lanes=2, gap=(1, 3), seed=seed, radius_range=(4.0, 12.0))
+    img = belt.image
+    ref = [o.to_dict() for o in scan(img, img.shape[0])]
+    scanner = LineScanner(img.shape[1])
+    out, i, k = [], 0, 0
+    while i < img.shape[0]:
+        step = cuts[k % len(cuts)]
+        out += scanner.feed(img[i : i + step])
+        i, k = i + step, k + 1
+    out += scanner.close()
+    assert [o.to_dict() for o in out] == ref
+    assert len(ref) == 4
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    grid=st.lists(st.lists(st.booleans(), min_size=6, max_size=6), min_size=1, max_size=24),
+    max_height=st.integers(1, 6),
+    chunk=st.integers(1, 9),
+)
+# A live object cut before it joins an already reported one below (found by hypothesis).
+@example(
+    grid=[
+        [0, 0, 0, 0, 0, 0],
+        [0, 0, 0, 0, 1, 0],
+        [1, 0, 0, 1, 0, 0],
+        [1, 0, 1, 0, 0, 0],
+        [0, 1, 0, 0, 0, 0],
+    ],
+    max_height=1,
+    chunk=1,
+)
+def test_chunking_invariance_on_noise_with_tall_cuts(grid, max_height, chunk):
+    img = np.array(grid, dtype=bool)
+    runs = [
+        [o.to_dict() for o in LineScanner(6, max_height=max_height).scan(chunks)]
+        for chunks in ([img], img, [img[i : i + chunk] for i in range(0, len(img), chunk)])
+    ]
+    assert runs[0] == runs[1] == runs[2]
+    # every object pixel is reported once (in an object or a too-tall record) or skipped
+    # only as the rest of a too-tall object
+    assert sum(o["area"] for o in runs[0]) <= int(img.sum())
+
+
+def test_min_area_ignores_speckle():
+    img = np.zeros((10, 12), dtype=bool)
+    img[1, 1] = img[3, 9] = img[9, 10] = True  # speckle
+    img[4:8, 2:6] = True
+    for chunk in (1, 10):
+        scanner = LineScanner(12, min_area=3)
+        objs = list(scanner.scan([img[i : i + chunk] for i in range(0, 10, chunk)]))
+        assert [(o.id, o.label, o.area) for o in objs] == [(0, "square", 16)]
+        assert scanner.n_ignored == 3
+    assert len(list(LineScanner(12).scan([img]))) == 4
