@@ -136,3 +136,12 @@ def test_transformer_matches_function(rng):
         t.transform(X[:, :10])
     with pytest.raises(ValueError, match="n_coeffs"):
         FourierFeatures(n_coeffs=11).fit(X)
+
+
+def test_transformer_weight_power(rng):
+    X = rng.normal(size=(5, 16))
+    plain = FourierFeatures().fit_transform(X)
+    weighted = FourierFeatures(weight_power=0.5).fit_transform(X)
+    np.testing.assert_allclose(weighted, plain * np.sqrt(np.arange(1, 9)))
+    with pytest.raises(ValueError, match="weight_power"):
+        FourierFeatures(weight_power=np.nan).fit(X)

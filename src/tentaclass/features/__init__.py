@@ -1,14 +1,17 @@
 """Descriptors: joint angles -> turning function -> Fourier features."""
 
 from .fourier import dft_layer, fourier_features
-from .transformers import FourierFeatures
+from .lap import last_lap
+from .transformers import FourierFeatures, LastLap
 from .turning import canonical_direction, periodic_signal, turning_function
 
 __all__ = [
     "FourierFeatures",
+    "LastLap",
     "canonical_direction",
     "dft_layer",
     "fourier_features",
+    "last_lap",
     "periodic_signal",
     "turning_function",
 ]

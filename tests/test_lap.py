@@ -1,0 +1,44 @@
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from tentaclass.features import fourier_features
+from tentaclass.features.lap import last_lap
+
+SQUARE = np.tile([0, 0, 0, np.pi / 2], 4)
+
+
+@settings(deadline=None, max_examples=40)
+@given(st.integers(0, 15), st.integers(1, 15), st.booleans())
+def test_last_lap_of_a_longer_wrap_is_the_shape(shift, extra, clockwise):
+    q = np.roll(SQUARE, shift)
+    longer = np.concatenate([q, q[:extra]])
+    if clockwise:
+        longer = -longer[::-1]
+    lap, closed = last_lap(longer, n_out=16)
+    assert closed
+    np.testing.assert_allclose(lap.sum(), 2 * np.pi, atol=1e-9)
+    np.testing.assert_allclose(fourier_features(lap), fourier_features(SQUARE), atol=1e-6)
+
+
+def test_partial_wrap_is_flagged_and_scaled_to_one_turn():
+    lap, closed = last_lap(SQUARE[:10], n_out=12)
+    assert not closed
+    assert lap.shape == (12,)
+    np.testing.assert_allclose(lap.sum(), 2 * np.pi)
+
+
+def test_batch_shapes_and_link_length_independence(rng):
+    q = np.stack([np.concatenate([SQUARE, SQUARE[:5]]), np.full(21, 2 * np.pi / 16)])
+    lap, closed = last_lap(q[None], n_out=16)
+    assert lap.shape == (1, 2, 16) and closed.shape == (1, 2) and closed.all()
+    lap2, _ = last_lap(q, n_out=16, link_lengths=3.5)
+    np.testing.assert_allclose(lap2, lap[0], atol=1e-9)
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="at least 3"):
+        last_lap([0.1, 0.2])
+    with pytest.raises(ValueError, match="n_out"):
+        last_lap(SQUARE, n_out=2)
