@@ -18,3 +18,10 @@ def test_bench_fourier_smoke(capsys):
     assert [r["n"] for r in rows] == [16, 64]
     assert all(r["ours"] > 0 for r in rows)
     assert "bare matmul" in capsys.readouterr().out
+
+
+def test_bench_pnn_smoke(capsys):
+    rows = load("bench_pnn").main(n_train=600, n_test=400, n_features=8, n_classes=3, repeat=1)
+    assert [r["dtype"] for r in rows] == ["float64", "float32"]
+    assert all(r["pnn"] > 0 and r["knn"] > 0 and r["bare"] > 0 for r in rows)
+    assert "1-NN / PNN" in capsys.readouterr().out

@@ -9,7 +9,9 @@ from tentaclass.classifiers import PNNClassifier, TentacleClassifier
 from tentaclass.datasets import thesis_tentacle
 
 
-@parametrize_with_checks([PNNClassifier(), PNNClassifier(spread=2.0)])
+@parametrize_with_checks(
+    [PNNClassifier(), PNNClassifier(spread=2.0), PNNClassifier(spread="auto", dtype="float32")]
+)
 def test_sklearn_compatible(estimator, check):
     check(estimator)
 
@@ -48,13 +50,131 @@ def test_far_samples_give_valid_probabilities():
     assert clf.predict([[100.0], [-50.0]]).tolist() == [1, 0]  # nearest class still wins
 
 
-def test_blocked_computation_equals_single_block(rng, monkeypatch):
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_tiled_computation_equals_single_block(rng, monkeypatch, dtype):
     X = rng.normal(size=(300, 4))
     y = rng.integers(0, 5, 300)
-    T = rng.normal(size=(97, 4))
-    full = PNNClassifier(spread=0.7).fit(X, y).predict_log_proba(T)
-    monkeypatch.setattr(pnn_module, "_BLOCK_BYTES", 8 * 300 * 7)  # 7 rows per block
-    np.testing.assert_allclose(PNNClassifier(spread=0.7).fit(X, y).predict_log_proba(T), full)
+    T = rng.normal(size=(97, 4)) * 3
+    monkeypatch.setattr(pnn_module, "_TILE_BYTES", 2**40)
+    monkeypatch.setattr(pnn_module, "_TILE_COLS", 10**9)
+    clf = PNNClassifier(spread=0.7, dtype=dtype).fit(X, y)
+    rows, tiles = clf._tiles(1, 8)
+    assert rows >= T.shape[0] and len(tiles) == 5  # one block: all rows, one tile per class
+    full = clf.predict_log_proba(T)
+    # 7 rows x at most 9 columns per tile, over 2 threads
+    monkeypatch.setattr(pnn_module, "_TILE_COLS", 9)
+    monkeypatch.setattr(pnn_module, "_TILE_BYTES", clf._pt.itemsize * 9 * 7)
+    monkeypatch.setattr(pnn_module, "_MIN_PARALLEL", 1)
+    monkeypatch.setattr(pnn_module, "_n_threads", lambda: 2)
+    rows, tiles = clf._tiles(2, clf._pt.itemsize)
+    assert rows == 7 and max(b - a for _, a, b in tiles) <= 9
+    tiled = clf.predict_log_proba(T)
+    np.testing.assert_allclose(tiled, full, rtol=1e-12 if dtype == "float64" else 1e-5)
+
+
+def test_memory_budget_caps_the_tile(monkeypatch):
+    monkeypatch.setattr(pnn_module, "MAX_BLOCK_BYTES", 8 * 40 * 3)
+    clf = PNNClassifier().fit(np.arange(80.0)[:, None], [0] * 40 + [1] * 40)
+    rows, tiles = clf._tiles(3, 8)
+    assert rows * max(b - a for _, a, b in tiles) * 8 * 3 <= pnn_module.MAX_BLOCK_BYTES
+
+
+def test_default_budget_is_256_mib():
+    assert pnn_module.MAX_BLOCK_BYTES == 256 * 2**20
+    assert pnn_module._TILE_BYTES <= pnn_module.MAX_BLOCK_BYTES
+
+
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_near_patterns_after_far_ones_in_a_class(rng, monkeypatch, dtype):
+    # class 0's first tile lies far from the queries (its frame is a shift), a
+    # later tile is near: those tile sums overflow the frame and are redone;
+    # class 1 is near from its first tile on (frame 0, no shift)
+    far = rng.normal(0, 1, (60, 3)) + np.array([60.0, 0, 0])
+    near = rng.normal(0, 1, (60, 3))
+    X = np.concatenate([far, near, rng.normal(0, 1, (60, 3)) + np.array([3.0, 0, 0])])
+    y = np.array([0] * 120 + [1] * 60)
+    T = rng.normal(0, 1, (40, 3))
+    monkeypatch.setattr(pnn_module, "_TILE_COLS", 30)
+    clf = PNNClassifier(spread=1.0, dtype=dtype).fit(X, y)
+    ref = reference_scores(X, y, T, 1.0)
+    # float32: the far cluster moves the training mean ~20 away from the queries,
+    # and distances from a product of centred data lose ~eps32 * g|x - mean|^2
+    rtol = 1e-10 if dtype == "float64" else 2e-4
+    np.testing.assert_allclose(clf.class_scores(T), ref, rtol=rtol)
+    # and far from everything: log scores stay finite and exact
+    far_q = T + np.array([200.0, 0, 0])
+    jll = clf._joint_log_likelihood(far_q)
+    d2 = ((far_q[:, None, :] - X[None]) ** 2).sum(-1) * (np.log(2) / 1.0)
+    ref_log = np.stack(
+        [
+            np.log(np.exp(-(d2[:, y == c] - d2[:, y == c].min(1, keepdims=True))).mean(1))
+            - d2[:, y == c].min(1)
+            for c in (0, 1)
+        ],
+        axis=1,
+    )
+    np.testing.assert_allclose(jll, ref_log, rtol=1e-9 if dtype == "float64" else 2e-4)
+
+
+@pytest.mark.parametrize("spread", [0.3, 3.0])
+def test_float32_agrees_with_float64(rng, spread):
+    X = rng.normal(size=(400, 8))
+    y = rng.integers(0, 3, 400)
+    T = rng.normal(size=(100, 8))
+    p64 = PNNClassifier(spread=spread).fit(X, y).predict_proba(T)
+    clf32 = PNNClassifier(spread=spread, dtype="float32").fit(X, y)
+    p32 = clf32.predict_proba(T)
+    assert p32.dtype == np.float64
+    np.testing.assert_allclose(p32, p64, atol=2e-5)
+    np.testing.assert_allclose(p32.sum(axis=1), 1)
+    assert clf32._pt.dtype == np.float32
+
+
+@pytest.mark.parametrize("dtype", ["float64", "float32", np.float32, np.dtype("float64")])
+def test_dtype_spellings(dtype):
+    clf = PNNClassifier(dtype=dtype).fit([[0.0], [1.0]], [0, 1])
+    assert clf.predict([[0.1]]).tolist() == [0]
+
+
+def test_numeric_spread_is_used_as_is():
+    clf = PNNClassifier(spread=0.25).fit([[0.0], [1.0]], [0, 1])
+    assert clf.spread_ == clf.spread == 0.25
+
+
+@pytest.mark.parametrize("scale", [0.01, 1.0, 100.0])
+def test_auto_spread_on_separated_clusters(rng, scale):
+    # clusters of unit width 20 apart: the spread must sit near the cluster
+    # width (not the smallest grid value, not the separation), scale with
+    # the data, and classify perfectly
+    centres = np.array([[0.0, 0.0], [20.0, 0.0], [0.0, 20.0]])
+    y = np.repeat([0, 1, 2], 60)
+    X = (centres[y] + rng.normal(size=(180, 2))) * scale
+    clf = PNNClassifier(spread="auto").fit(X, y)
+    assert clf.spread == "auto"
+    assert 0.2 * scale < clf.spread_ < 2.0 * scale
+    _, grid, scores = pnn_module.auto_spread(
+        clf.patterns_, np.repeat([0, 1, 2], 60), return_scores=True
+    )
+    k = int(np.argmax(scores))
+    assert 0 < k < grid.size - 1  # an interior maximum, not an edge of the grid
+    T = (centres[y] + rng.normal(size=(180, 2))) * scale
+    assert clf.score(T, y) == 1.0
+
+
+def test_auto_spread_with_one_pattern_per_class():
+    X, y = thesis_tentacle(16, return_X_y=True)
+    clf = TentacleClassifier(spread="auto").fit(X, y)
+    pnn = clf.pipeline_.named_steps["classifier"]
+    assert np.isfinite(pnn.spread_) and pnn.spread_ > 0
+    assert clf.predict(np.roll(X, 5, axis=1)).tolist() == y.tolist()
+
+
+def test_auto_spread_ignores_duplicates_and_stays_finite():
+    X = np.array([[0.0], [0.0], [0.0], [1.0], [1.0], [1.1]])
+    clf = PNNClassifier(spread="auto").fit(X, [0, 0, 0, 1, 1, 1])
+    assert np.isfinite(clf.spread_) and clf.spread_ > 0
+    clf = PNNClassifier(spread="auto").fit(np.zeros((4, 2)), [0, 0, 1, 1])
+    assert clf.spread_ > 0
 
 
 def test_rejection_gives_unknown_instead_of_forced_class():
@@ -82,6 +202,9 @@ def test_labels_of_any_type_round_trip():
         ({"spread": np.nan}, "spread"),
         ({"spread": "x"}, "spread"),
         ({"reject_below": 2.0}, "reject_below"),
+        ({"spread": "big"}, "spread"),
+        ({"dtype": "float16"}, "dtype"),
+        ({"dtype": "complex"}, "dtype"),
     ],
 )
 def test_bad_parameters(params, match):

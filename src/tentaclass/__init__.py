@@ -12,7 +12,14 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 - :mod:`tentaclass.plotting`: figures (matplotlib, imported lazily).
 """
 
-from .classifiers import PNNClassifier, TentacleClassifier
+from .classifiers import (
+    PNNClassifier,
+    RBFNetworkClassifier,
+    ShiftNNClassifier,
+    TentacleClassifier,
+    modern_mlp,
+    thesis_mlp,
+)
 from .features import (
     FourierFeatures,
     canonical_direction,
@@ -23,6 +30,7 @@ from .features import (
 )
 from .geometry import angles_to_points, points_to_angles, resample_closed
 from .manipulator import ChainKinematics, PlanarChain, Trajectory
+from .model_io import load_model, save_model
 from .scanner import Defect, Inspection, LineScanner, ScannedObject, ScannerModel
 
 __version__ = "0.1.0"
@@ -35,8 +43,10 @@ __all__ = [
     "LineScanner",
     "PNNClassifier",
     "PlanarChain",
+    "RBFNetworkClassifier",
     "ScannedObject",
     "ScannerModel",
+    "ShiftNNClassifier",
     "TentacleClassifier",
     "Trajectory",
     "__version__",
@@ -44,8 +54,12 @@ __all__ = [
     "canonical_direction",
     "dft_layer",
     "fourier_features",
+    "load_model",
+    "modern_mlp",
     "periodic_signal",
     "points_to_angles",
     "resample_closed",
+    "save_model",
+    "thesis_mlp",
     "turning_function",
 ]

@@ -30,8 +30,13 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
         Ramp through the measured total turn (robust to joint noise).
     normalize : bool, default=False
         Divide features by ``n_joints``.
-    spread : float, default=0.1
-        Kernel width of the default PNN (ignored when ``classifier`` is given).
+    weight_power : float, default=0.0
+        Weight coefficient ``k`` by ``k ** weight_power`` (0.5 helps with joint
+        noise; see :class:`~tentaclass.features.FourierFeatures`).
+    spread : float or "auto", default=0.1
+        Kernel width of the default PNN (ignored when ``classifier`` is given);
+        ``"auto"`` chooses it on the training features (see
+        :class:`PNNClassifier`).
     reject_below : float, optional
         Rejection threshold of the default PNN (see :class:`PNNClassifier`).
     classifier : estimator, optional
@@ -60,13 +65,15 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
         n_coeffs: int | None = None,
         detrend: bool = False,
         normalize: bool = False,
-        spread: float = 0.1,
+        weight_power: float = 0.0,
+        spread: float | str = 0.1,
         reject_below: float | None = None,
         classifier: BaseEstimator | None = None,
     ):
         self.n_coeffs = n_coeffs
         self.detrend = detrend
         self.normalize = normalize
+        self.weight_power = weight_power
         self.spread = spread
         self.reject_below = reject_below
         self.classifier = classifier
@@ -89,7 +96,12 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
             clf = PNNClassifier(spread=self.spread, reject_below=self.reject_below)
         else:
             clf = clone(self.classifier)
-        features = FourierFeatures(self.n_coeffs, detrend=self.detrend, normalize=self.normalize)
+        features = FourierFeatures(
+            self.n_coeffs,
+            detrend=self.detrend,
+            normalize=self.normalize,
+            weight_power=self.weight_power,
+        )
         self.pipeline_ = Pipeline([("features", features), ("classifier", clf)]).fit(X, y)
         self.classes_ = self.pipeline_.classes_
         return self

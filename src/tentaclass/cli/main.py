@@ -47,8 +47,9 @@ def _register() -> None:
     from .classify import classify
     from .demo import demo
     from .scan import scan
+    from .train import train
 
-    for command in (classify, demo, scan):
+    for command in (classify, demo, scan, train):
         cli.add_command(command)
 
 
