@@ -7,11 +7,14 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 - :mod:`tentaclass.classifiers`: PNN and the end-to-end :class:`TentacleClassifier`;
 - :mod:`tentaclass.datasets`: the thesis's arrays and grids;
 - :mod:`tentaclass.report`: results as columns / JSON;
+- :mod:`tentaclass.shapes`, :func:`wrap`: object outlines and the joint angles a chain
+  wrapped around them measures; :func:`grasp_state` reads laps and offset back;
 - :mod:`tentaclass.manipulator`: kinematics and dynamics of the planar n-link chain;
 - :mod:`tentaclass.scanner`: the linear object scanner (classes and defects on a belt);
 - :mod:`tentaclass.plotting`: figures (matplotlib, imported lazily).
 """
 
+from . import shapes
 from .classifiers import (
     PNNClassifier,
     RBFNetworkClassifier,
@@ -29,9 +32,12 @@ from .features import (
     turning_function,
 )
 from .geometry import angles_to_points, points_to_angles, resample_closed
+from .grasp import GraspState, grasp_state
 from .manipulator import ChainKinematics, PlanarChain, Trajectory
 from .model_io import load_model, save_model
+from .sampling import capture_error, closing_link_length, max_link_length
 from .scanner import Defect, Inspection, LineScanner, ScannedObject, ScannerModel
+from .wrapping import Wrap, WrapBatch, wrap, wrap_many
 
 __version__ = "0.1.0"
 
@@ -39,6 +45,7 @@ __all__ = [
     "ChainKinematics",
     "Defect",
     "FourierFeatures",
+    "GraspState",
     "Inspection",
     "LineScanner",
     "PNNClassifier",
@@ -49,17 +56,26 @@ __all__ = [
     "ShiftNNClassifier",
     "TentacleClassifier",
     "Trajectory",
+    "Wrap",
+    "WrapBatch",
     "__version__",
     "angles_to_points",
     "canonical_direction",
+    "capture_error",
+    "closing_link_length",
     "dft_layer",
     "fourier_features",
+    "grasp_state",
     "load_model",
+    "max_link_length",
     "modern_mlp",
     "periodic_signal",
     "points_to_angles",
     "resample_closed",
     "save_model",
+    "shapes",
     "thesis_mlp",
     "turning_function",
+    "wrap",
+    "wrap_many",
 ]

@@ -44,12 +44,14 @@ def cli(ctx: click.Context, verbose: int, quiet: bool) -> None:
 
 
 def _register() -> None:
+    from .bench import bench
     from .classify import classify
     from .demo import demo
     from .scan import scan
     from .train import train
+    from .wrap import wrap
 
-    for command in (classify, demo, scan, train):
+    for command in (bench, classify, demo, scan, train, wrap):
         cli.add_command(command)
 
 

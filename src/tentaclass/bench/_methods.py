@@ -1,0 +1,144 @@
+"""The methods a benchmark compares: ours and the peers, by name.
+
+Every method is a factory returning a fresh scikit-learn classifier that takes
+raw joint-angle arrays of shape ``(n_samples, n_joints)``, so all of them see
+exactly the same data.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.neighbors import KNeighborsClassifier
+from sklearn.pipeline import make_pipeline
+from sklearn.preprocessing import StandardScaler
+from sklearn.svm import SVC
+
+from ..classifiers import PNNClassifier, TentacleClassifier
+from ..classifiers._shift_nn import ShiftNNClassifier
+from ..errors import InputError
+from ..features import LastLap
+
+
+class _AeonAdapter(ClassifierMixin, BaseEstimator):
+    """2-D arrays -> aeon's (n_cases, n_channels, n_timepoints) layout."""
+
+    def __init__(self, estimator: object = None):
+        self.estimator = estimator
+
+    def fit(self, X, y):
+        from sklearn.base import clone
+
+        self.estimator_ = clone(self.estimator).fit(np.asarray(X)[:, None, :], np.asarray(y))
+        self.classes_ = np.unique(y)
+        return self
+
+    def predict(self, X):
+        return self.estimator_.predict(np.asarray(X)[:, None, :])
+
+
+def _minirocket() -> BaseEstimator:
+    try:
+        from aeon.classification.convolution_based import MiniRocketClassifier
+    except ImportError as exc:  # optional peer: the `bench` extra
+        raise InputError("method 'minirocket' needs aeon: pip install 'tentaclass[bench]'") from exc
+    return _AeonAdapter(MiniRocketClassifier(random_state=0))
+
+
+@dataclass(frozen=True)
+class Method:
+    """A named benchmark entry."""
+
+    name: str
+    make: Callable[[], BaseEstimator]
+    description: str
+    ours: bool
+
+
+METHODS: dict[str, Method] = {
+    m.name: m
+    for m in [
+        Method(
+            "thesis",
+            lambda: TentacleClassifier(spread=0.1),
+            "thesis: |DFT| of E (2 pi ramp) + PNN, spread 0.1",
+            True,
+        ),
+        Method(
+            "fourier-1nn",
+            lambda: TentacleClassifier(detrend=True, classifier=KNeighborsClassifier(1)),
+            "|DFT| of detrended E + 1-NN",
+            True,
+        ),
+        Method(
+            "fourier-pnn",
+            lambda: TentacleClassifier(
+                detrend=True, weight_power=0.5, classifier=PNNClassifier(spread="auto")
+            ),
+            "|DFT| of detrended E, weighted by sqrt(k), + PNN with spread chosen on training",
+            True,
+        ),
+        Method(
+            "fourier-w1nn",
+            lambda: TentacleClassifier(
+                detrend=True, weight_power=0.5, classifier=KNeighborsClassifier(1)
+            ),
+            "|DFT| of detrended E, weighted by sqrt(k), + 1-NN",
+            True,
+        ),
+        Method(
+            "shift-nn",
+            lambda: ShiftNNClassifier(signal="turning"),
+            "1-NN on the detrended turning signal, best cyclic shift and mirror (FFT)",
+            True,
+        ),
+        Method(
+            "lap-shift-nn",
+            lambda: make_pipeline(LastLap(), ShiftNNClassifier(signal="turning")),
+            "last full lap (drops approach and extra laps) + shift-invariant 1-NN",
+            True,
+        ),
+        Method(
+            "lap-fourier-1nn",
+            lambda: make_pipeline(
+                LastLap(), TentacleClassifier(detrend=True, classifier=KNeighborsClassifier(1))
+            ),
+            "last full lap + |DFT| of detrended E + 1-NN",
+            True,
+        ),
+        Method(
+            "shift-nn-raw",
+            lambda: ShiftNNClassifier(signal="raw"),
+            "1-NN on the arrays as periodic signals, best cyclic shift and mirror (FFT)",
+            True,
+        ),
+        Method(
+            "1nn-euclidean",
+            lambda: KNeighborsClassifier(1),
+            "peer: 1-NN, Euclidean distance on the raw arrays",
+            False,
+        ),
+        Method(
+            "svc",
+            lambda: make_pipeline(StandardScaler(), SVC()),
+            "peer: RBF SVC on the standardised raw arrays",
+            False,
+        ),
+        Method("minirocket", _minirocket, "peer: MiniRocket (aeon) on the raw arrays", False),
+    ]
+}
+
+
+def method_names() -> list[str]:
+    """Names of all registered methods."""
+    return list(METHODS)
+
+
+def make_method(name: str) -> BaseEstimator:
+    """A fresh estimator for a method name."""
+    if name not in METHODS:
+        raise InputError(f"unknown method {name!r}; choose from {', '.join(METHODS)}")
+    return METHODS[name].make()

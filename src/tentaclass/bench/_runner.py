@@ -1,0 +1,199 @@
+"""Cross-validated accuracy and timing of several methods on one dataset."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from sklearn.base import clone
+from sklearn.model_selection import StratifiedKFold
+
+from .._typing import ArrayLike
+from .._validation import as_float_array
+from ..errors import InputError
+from ._methods import METHODS, make_method
+
+
+@dataclass(frozen=True)
+class BenchResult:
+    """One method's result on one dataset."""
+
+    method: str
+    accuracy: float
+    accuracy_std: float
+    fit_seconds: float
+    predict_seconds: float
+    n_train: int
+    n_test: int
+    y_true: np.ndarray = field(repr=False)
+    y_pred: np.ndarray = field(repr=False)
+    error: str = ""
+
+
+def _splits(y, groups, is_eval, split, n_splits, seed):
+    """(train rows, test rows) pairs: folds over objects, or the official split."""
+    if split is not None:
+        split = np.asarray(split)
+        return [(np.flatnonzero(split == "train"), np.flatnonzero(split == "test"))]
+    eval_rows = np.flatnonzero(is_eval)
+    skf = StratifiedKFold(n_splits=n_splits, shuffle=True, random_state=seed)
+    out = []
+    for tr, te in skf.split(eval_rows, y[eval_rows]):
+        train_groups = groups[eval_rows[tr]]
+        out.append((np.flatnonzero(np.isin(groups, train_groups)), eval_rows[te]))
+    return out
+
+
+def run_benchmark(
+    X: ArrayLike,
+    y: ArrayLike,
+    methods: list[str],
+    *,
+    groups: ArrayLike | None = None,
+    is_eval: ArrayLike | None = None,
+    split: ArrayLike | None = None,
+    n_splits: int = 10,
+    seed: int = 0,
+    progress: bool = False,
+) -> list[BenchResult]:
+    """Stratified k-fold accuracy, fit and predict time of each method.
+
+    Parameters
+    ----------
+    X : array_like of shape (n_samples, n_joints)
+        Joint-angle arrays.
+    y : array_like of shape (n_samples,)
+    methods : list of str
+        Names from :data:`tentaclass.bench.METHODS`.
+    groups : array_like of shape (n_samples,), optional
+        Object each array was measured on. Folds split objects, never arrays of
+        one object, and a method trains on every array of its training objects.
+    is_eval : array_like of bool, shape (n_samples,), optional
+        The arrays that are scored (one per object); default all. Others only
+        train (extra wraps of training objects, e.g. with noise).
+    split : array_like of {"train", "test"}, optional
+        An official train/test split instead of k folds.
+    n_splits : int, default=10
+    seed : int, default=0
+        Shuffles the folds.
+    progress : bool, default=False
+        Show a rich progress bar on stderr.
+
+    Returns
+    -------
+    results : list of BenchResult
+        One per method, in order. A method that fails carries its error message
+        and NaN accuracy instead of stopping the run.
+
+    Examples
+    --------
+    >>> from tentaclass.datasets import reference_tentacle
+    >>> X, y = reference_tentacle(16, n_starts=10, return_X_y=True)
+    >>> [r.accuracy for r in run_benchmark(X, y, ["thesis"], n_splits=5)]
+    [1.0]
+    """
+    X = as_float_array(X, "X", min_ndim=2)
+    y = np.asarray(y)
+    if X.ndim != 2 or len(y) != len(X):
+        raise InputError(f"X must be (n_samples, n_joints) with one label each, got {X.shape}")
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown:
+        raise InputError(f"unknown method(s) {unknown}; choose from {', '.join(METHODS)}")
+    groups = np.arange(len(y)) if groups is None else np.asarray(groups)
+    is_eval = np.ones(len(y), bool) if is_eval is None else np.asarray(is_eval, bool)
+    folds = _splits(y, groups, is_eval, split, n_splits, seed)
+    results = []
+    bar: Any = None
+    if progress:
+        from rich.progress import Progress
+
+        bar = Progress(transient=True)
+        bar.start()
+        task = bar.add_task("benchmark", total=len(methods) * len(folds))
+    try:
+        for name in methods:
+            results.append(_run_one(name, X, y, folds, bar, task if bar else None))
+    finally:
+        if bar is not None:
+            bar.stop()
+    return results
+
+
+def _run_one(name, X, y, folds, bar, task) -> BenchResult:
+    fit_s = pred_s = 0.0
+    y_true, y_pred, accs = [], [], []
+    try:
+        proto = make_method(name)
+        for tr, te in folds:
+            if bar is not None:
+                bar.update(task, description=f"{name}")
+            est = clone(proto)
+            t0 = time.perf_counter()
+            est.fit(X[tr], y[tr])
+            t1 = time.perf_counter()
+            pred = est.predict(X[te])
+            t2 = time.perf_counter()
+            fit_s += t1 - t0
+            pred_s += t2 - t1
+            y_true.append(y[te])
+            y_pred.append(pred)
+            accs.append(float(np.mean(pred == y[te])))
+            if bar is not None:
+                bar.advance(task)
+    except Exception as exc:  # a failing method is reported, the others still run
+        return BenchResult(name, np.nan, np.nan, fit_s, pred_s, 0, 0, np.array([]), np.array([]),
+                           error=f"{type(exc).__name__}: {exc}")  # fmt: skip
+    n_test = sum(len(t) for t in y_true)
+    yt, yp = np.concatenate(y_true), np.concatenate(y_pred)
+    return BenchResult(
+        method=name,
+        accuracy=float(np.mean(yt == yp)),
+        accuracy_std=float(np.std(accs)),
+        fit_seconds=fit_s,
+        predict_seconds=pred_s,
+        n_train=int(np.mean([len(tr) for tr, _ in folds])),
+        n_test=n_test,
+        y_true=yt,
+        y_pred=yp,
+    )
+
+
+def results_markdown(results: list[BenchResult], title: str = "") -> str:
+    """The results as a markdown table (accuracy, fold std, fit and predict time)."""
+    head = f"### {title}\n\n" if title else ""
+    lines = [
+        "| method | accuracy | fold std | fit s | predict s | what |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in results:
+        what = METHODS[r.method].description if r.method in METHODS else ""
+        if r.error:
+            lines.append(f"| {r.method} | failed | | | | {r.error} |")
+            continue
+        lines.append(
+            f"| {r.method} | {r.accuracy:.1%} | {r.accuracy_std:.1%} | "
+            f"{r.fit_seconds:.2f} | {r.predict_seconds:.2f} | {what} |"
+        )
+    return head + "\n".join(lines) + "\n"
+
+
+def confusion_figure(result: BenchResult, max_labels: int = 30) -> Any:
+    """Confusion matrix of one result as a matplotlib Figure (not shown)."""
+    from matplotlib.figure import Figure
+    from sklearn.metrics import confusion_matrix
+
+    labels = np.unique(np.concatenate([result.y_true, result.y_pred]).astype(str))
+    cm = confusion_matrix(result.y_true.astype(str), result.y_pred.astype(str), labels=labels)
+    fig = Figure(figsize=(8, 7), layout="constrained")
+    ax = fig.subplots()
+    im = ax.imshow(cm, cmap="Blues")
+    fig.colorbar(im, ax=ax, shrink=0.8)
+    if len(labels) <= max_labels:
+        ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=7)
+        ax.set_yticks(range(len(labels)), labels, fontsize=7)
+    ax.set_xlabel("predicted")
+    ax.set_ylabel("true")
+    ax.set_title(f"{result.method}: accuracy {result.accuracy:.1%}")
+    return fig

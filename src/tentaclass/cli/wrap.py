@@ -1,0 +1,150 @@
+"""``tentaclass wrap``: simulate a tentacle wrapped around an object, print its joint angles."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+import numpy as np
+
+from ..errors import TentaclassError
+
+
+def _numbers(text: str | None, name: str) -> list[float] | None:
+    if text is None:
+        return None
+    try:
+        return [float(t) for t in text.replace(",", " ").split()]
+    except ValueError:
+        raise click.BadParameter(f"{text!r} is not a list of numbers", param_hint=name) from None
+
+
+def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Path | None):
+    from .. import shapes
+
+    if mask is not None:
+        if shape is not None:
+            raise click.UsageError("give either --shape or --mask, not both")
+        return shapes.from_mask(shapes.read_silhouette(mask))
+    shape = shape or "square"
+    if shape in ("polygon", "triangle") and vertices is not None:
+        pts = _numbers(vertices, "--vertices")
+        if len(pts) % 2:
+            raise click.BadParameter("needs x,y pairs", param_hint="--vertices")
+        xy = np.reshape(pts, (-1, 2))
+        return shapes.triangle(xy) if shape == "triangle" else shapes.polygon(xy)
+    if shape == "polygon":
+        raise click.UsageError("--shape polygon needs --vertices 'x,y x,y x,y ...'")
+    dims = _numbers(size, "--size") or [4.0]
+    if shape == "rectangle":
+        w, h = (dims * 2)[:2] if len(dims) == 1 else dims[:2]
+        return shapes.rectangle(w, h if len(dims) > 1 else w / 3)
+    if len(dims) != 1:
+        raise click.BadParameter(f"{shape} takes one size", param_hint="--size")
+    return {"square": shapes.square, "circle": shapes.circle,
+            "triangle": lambda s: shapes.triangle(side=s)}[shape](dims[0])  # fmt: skip
+
+
+def _length_for_laps(outline, links, laps, **kw) -> float:
+    """Link length with which the links after the approach wrap ``laps`` laps.
+
+    ``(links - approach) / laps`` links close one lap (``closing_link_length``);
+    the approach takes ``ceil(offset / l)`` links, so the length is found twice.
+    """
+    from ..sampling import closing_link_length
+
+    args = {k: kw[k] for k in ("start", "direction", "mode")}
+    ln = closing_link_length(outline, max(2, round(links / laps)), **args)[0]
+    if kw.get("offset", 0) > 0:
+        wrapping = links - int(np.ceil(kw["offset"] / ln))
+        ln = closing_link_length(outline, max(2, round(wrapping / laps)), **args)[0]
+    return ln
+
+
+@click.command()
+@click.option("--shape", type=click.Choice(["circle", "square", "rectangle", "triangle",
+              "polygon"]), help="Primitive object (default square).")  # fmt: skip
+@click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' of a "
+              "rectangle (default 4).")  # fmt: skip
+@click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'.")
+@click.option("--mask", type=click.Path(exists=True, dir_okay=False, path_type=Path),
+              help="Binary image: wrap its largest object.")  # fmt: skip
+@click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
+@click.option("--link-length", type=float, help="Link length (default 1).")
+@click.option(
+    "--laps",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Choose the link length so the chain turns this many laps.",
+)
+@click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
+              show_default=True, help="Start point, fraction of the perimeter.")  # fmt: skip
+@click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw", show_default=True)
+@click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
+@click.option(
+    "--offset",
+    type=click.FloatRange(min=0),
+    default=0.0,
+    show_default=True,
+    help="Distance of the base from the object.",
+)
+@click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True)
+@click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
+              help="Joint noise standard deviation (radians).")  # fmt: skip
+@click.option("--seed", type=int, help="Seed for the noise.")
+@click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
+              help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction, mode, offset,
+         thickness, noise, seed, plot, as_json) -> None:  # fmt: skip
+    """Wrap a tentacle of LINKS links around an object and print its joint angles.
+
+    The angles are printed space-separated, as `tentaclass classify` reads
+    them, followed by the grasp state read back from the angles alone.
+    """
+    from ..grasp import grasp_state
+    from ..wrapping import wrap as do_wrap
+
+    try:
+        outline = _outline(shape, size, vertices, mask)
+        kw = {"start": start, "direction": direction, "mode": mode, "offset": offset,
+              "thickness": thickness}  # fmt: skip
+        if laps is not None:
+            if link_length is not None:
+                raise click.UsageError("give either --link-length or --laps, not both")
+            link_length = _length_for_laps(outline, links, laps, **kw)
+        elif link_length is None:
+            link_length = 1.0
+        w = do_wrap(outline, links, link_length, noise=noise, seed=seed, **kw)
+        g = grasp_state(w.angles) if len(w.angles) else None
+        if plot is not None:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            from ..plotting_wrap import plot_wrap
+
+            fig, ax = plt.subplots(figsize=(5, 5))
+            plot_wrap(w, outline, ax=ax)
+            ax.set_title(f"{len(w.angles)} links of {link_length:.4g}, {w.laps:.2f} laps")
+            fig.savefig(plot, dpi=120, bbox_inches="tight")
+            plt.close(fig)
+    except (TentaclassError, ValueError, OSError) as exc:
+        raise click.UsageError(str(exc).splitlines()[0] if str(exc) else repr(exc)) from None
+    state = g.state.item() if g is not None else "partial"
+    if as_json:
+        click.echo(json.dumps({
+            "angles": w.angles.tolist(), "joints": w.joints.tolist(),
+            "contact": w.contact.tolist(), "link_length": link_length, "laps": w.laps,
+            "offset_links": w.offset_links, "complete": w.complete,
+            "grasp": {"state": state,
+                      "laps": float(g.laps) if g is not None else 0.0,
+                      "offset_links": int(g.offset_links) if g is not None else 0},
+        }))  # fmt: skip
+        return
+    click.echo(" ".join(f"{a:.10g}" for a in w.angles))
+    note = "" if w.complete else " (chain stopped early: no next contact)"
+    if g is not None:
+        click.echo(f"grasp: {state}, {float(g.laps):.2f} laps, offset {int(g.offset_links)} "
+                   f"links{note}", err=True)  # fmt: skip

@@ -1,0 +1,251 @@
+"""Generated tentacle data: the thesis's classes and MPEG-7 silhouettes, wrapped.
+
+Everything is deterministic given ``seed``. The wraps come from
+:func:`tentaclass.wrapping.wrap_many`; this module only draws the objects and
+the wrap parameters, and for MPEG-7 finds the link length that closes one lap.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+from shapely.geometry import Polygon
+from sklearn.utils import Bunch
+
+from .._validation import check_positive_float, check_positive_int
+from ..errors import InputError
+from ..shapes import circle, load_mpeg7, rectangle, square, triangle
+from ..wrapping import wrap_many
+from ._thesis import THESIS_CLASSES
+
+
+def _noise_range(noise: float | tuple[float, float]) -> tuple[float, float]:
+    lo, hi = (noise, noise) if np.isscalar(noise) else tuple(noise)  # type: ignore[arg-type]
+    lo = check_positive_float(lo, "noise", allow_zero=True)
+    hi = check_positive_float(hi, "noise", allow_zero=True)
+    if hi < lo:
+        raise InputError(f"noise range must be (low, high) with low <= high, got {noise!r}")
+    return lo, hi
+
+
+def _random_outline(cls: str, perimeter: float, rng: np.random.Generator) -> np.ndarray:
+    """One object of a thesis class with the given perimeter, randomly rotated."""
+    if cls == "square":
+        p = square(1.0)
+    elif cls == "circle":
+        p = circle(1.0, n_points=256)
+    elif cls == "rectangle":
+        p = rectangle(float(rng.uniform(1.2, 4.0)), 1.0)
+    else:  # a triangle of random angles, none below 25 degrees
+        while True:
+            a, b = np.deg2rad(rng.uniform(25, 130, 2))
+            if np.pi - a - b > np.deg2rad(25):
+                break
+        c = np.array([np.cos(a), np.sin(a)]) * np.sin(b) / np.sin(a + b)
+        p = triangle([(0.0, 0.0), (1.0, 0.0), tuple(c)])
+    p = p - p.mean(axis=0)
+    p *= perimeter / Polygon(p).length
+    theta = rng.uniform(0, 2 * np.pi)
+    rot = np.array([[np.cos(theta), np.sin(theta)], [-np.sin(theta), np.cos(theta)]])
+    return p @ rot
+
+
+def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut"):
+    """wrap_many over rows with per-row direction; angles (b, n) and laps (b,)."""
+    angles = np.empty((len(outlines), n_links))
+    laps = np.empty(len(outlines))
+    lap_last = np.empty(len(outlines), np.int64)
+    complete = np.empty(len(outlines), bool)
+    for flag, direction in ((False, "ccw"), (True, "cw")):
+        rows = np.flatnonzero(cw == flag)
+        if rows.size == 0:
+            continue
+        b = wrap_many([outlines[i] for i in rows], n_links, lengths[rows], starts[rows],
+                      direction=direction, offset=offsets[rows], mode=mode)  # fmt: skip
+        angles[rows] = b.angles
+        laps[rows] = b.laps
+        lap_last[rows] = b.lap[:, -1]
+        complete[rows] = b.complete
+    return angles, laps, lap_last, complete
+
+
+def synthetic_tentacle(
+    n_samples: int,
+    n_links: int = 16,
+    *,
+    laps: tuple[float, float] = (1.0, 2.0),
+    offset_links: tuple[float, float] = (0.0, 3.0),
+    noise: float | tuple[float, float] = (0.0, 0.05),
+    seed: int = 0,
+) -> Bunch:
+    """Wraps of random squares, circles, triangles and rectangles.
+
+    Each sample draws a class, a size such that the chain covers ``laps`` laps
+    after its approach, a rectangle aspect ratio in [1.2, 4] or triangle
+    angles (all >= 25 degrees), a rotation, a start point, a direction, an
+    offset of ``offset_links`` links and a joint-noise sigma from ``noise``.
+    Links have length 1.
+
+    Parameters
+    ----------
+    n_samples : int
+    n_links : int, default=16
+    laps : (float, float), default=(1, 2)
+        Range of laps wrapped; use ``(0.5, 1.0)`` for partial wraps.
+    offset_links : (float, float), default=(0, 3)
+        Range of the base's stand-off, in link lengths.
+    noise : float or (float, float), default=(0, 0.05)
+        Joint-noise sigma in radians, or the range it is drawn from.
+    seed : int, default=0
+
+    Returns
+    -------
+    data : Bunch
+        ``data`` (n_samples, n_links) angles, ``target`` (n_samples,) class,
+        ``laps`` (n_samples,) laps actually wrapped, ``offset`` (n_samples,)
+        stand-off in links, ``noise`` (n_samples,) sigma used.
+
+    Examples
+    --------
+    >>> d = synthetic_tentacle(8, 16, seed=1)
+    >>> d.data.shape, set(d.target.tolist()) <= {'circle', 'rectangle', 'square', 'triangle'}
+    ((8, 16), True)
+    """
+    n_samples = check_positive_int(n_samples, "n_samples")
+    n_links = check_positive_int(n_links, "n_links", minimum=3)
+    nlo, nhi = _noise_range(noise)
+    rng = np.random.default_rng(seed)
+    cls = rng.choice(THESIS_CLASSES, n_samples)
+    lap_target = rng.uniform(*laps, n_samples)
+    off = rng.uniform(*offset_links, n_samples)
+    perimeter = np.maximum(n_links - off, 3.0) / lap_target
+    outlines = [_random_outline(c, p, rng) for c, p in zip(cls, perimeter, strict=True)]
+    starts = rng.uniform(0, 1, n_samples)
+    cw = rng.random(n_samples) < 0.5
+    sigma = rng.uniform(nlo, nhi, n_samples)
+    ones = np.ones(n_samples)
+    # Chords are shorter than the arcs they span: rescale once so that the chain
+    # covers the drawn number of laps.
+    _, got_laps, _, done = _wrap_both_ways(outlines, n_links, ones, starts, off, cw)
+    scale = np.where(done & (got_laps > 0), got_laps / lap_target, 1.0)
+    outlines = [o * f for o, f in zip(outlines, scale, strict=True)]
+    angles, got_laps, _, _ = _wrap_both_ways(outlines, n_links, ones, starts, off, cw)
+    angles = angles + rng.normal(0.0, 1.0, angles.shape) * sigma[:, None]
+    return Bunch(data=angles, target=cls, laps=got_laps, offset=off, noise=sigma,
+                 DESCR="Synthetic wraps of the four thesis classes (unit links).")  # fmt: skip
+
+
+def _generator_digest() -> str:
+    """Hash of the wrap generator's source: a changed generator never reads old wraps."""
+    from .. import wrapping
+
+    h = hashlib.sha256()
+    for f in sorted(Path(wrapping.__file__).parent.glob("*.py")):
+        h.update(f.read_bytes())
+    h.update(Path(__file__).read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _cache_path(key: dict) -> Path:
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "tentaclass"
+    digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
+    return base / f"mpeg7-wraps-{digest}.npz"
+
+
+def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=30):
+    """Per wrap, the link length whose last joint lands on the start point (bisection)."""
+    polys = [Polygon(o) for o in outlines]
+    support = np.array([p.convex_hull.length if mode == "taut" else p.length for p in polys])
+    diameter = np.array([np.ptp(o, axis=0).max() for o in outlines]) * 0.999
+    lo = 0.5 * support / n_links  # chain of half the support: short of one lap
+    hi = np.minimum(1.5 * support / n_links, diameter)
+    zero = np.zeros(len(outlines))
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        _, laps, _, complete = _wrap_both_ways(outlines, n_links, mid, starts, zero, cw, mode)
+        over = (laps >= 1) | ~complete
+        hi = np.where(over, mid, hi)
+        lo = np.where(over, lo, mid)
+    return lo
+
+
+def mpeg7_tentacle(
+    folder: str | Path,
+    n_links: int = 64,
+    mode: str = "taut",
+    *,
+    noise: float = 0.0,
+    copies: int = 1,
+    seed: int = 0,
+    max_vertices: int = 1000,
+    cache: bool = True,
+) -> Bunch:
+    """One-lap tentacle wraps of every MPEG-7 Part B silhouette.
+
+    Each silhouette is wrapped from a random start point in a random direction
+    by ``n_links`` equal links whose length closes exactly one lap (found by
+    bisection), in the given mode, and joint noise is added.
+
+    Parameters
+    ----------
+    folder : path
+        The MPEG-7 CE-Shape-1 Part B folder (see :func:`tentaclass.shapes.load_mpeg7`).
+    n_links : int, default=64
+    mode : {"taut", "hug"}, default="taut"
+    noise : float, default=0.0
+        Joint-noise sigma in radians.
+    copies : int, default=1
+        Wraps per silhouette, each from its own start point and direction. Copy
+        0 is the one to score; the others can serve as extra training data.
+    seed : int, default=0
+    max_vertices : int, default=1000
+        Outlines are resampled to at most this many vertices first.
+    cache : bool, default=True
+        Keep the noise-free wraps on disk (``~/.cache/tentaclass``): the
+        bisection takes a while for 1400 shapes.
+
+    Returns
+    -------
+    data : Bunch
+        ``data`` (1400 * copies, n_links), ``target`` class names, ``groups``
+        the silhouette's index, ``wrap_index`` the copy number, ``names`` file names.
+    """
+    n_links = check_positive_int(n_links, "n_links", minimum=3)
+    copies = check_positive_int(copies, "copies")
+    noise = check_positive_float(noise, "noise", allow_zero=True)
+    if mode not in ("taut", "hug"):
+        raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
+    outlines, labels, names = load_mpeg7(folder, max_vertices=max_vertices)
+    key = {"n": n_links, "mode": mode, "copies": copies, "seed": seed, "mv": max_vertices,
+           "files": len(names), "code": _generator_digest()}  # fmt: skip
+    path = _cache_path(key)
+    if cache and path.exists():
+        with np.load(path, allow_pickle=False) as f:
+            angles = f["angles"]
+    else:
+        rng = np.random.default_rng(seed)
+        m = len(outlines) * copies
+        rows = [outlines[i] for _ in range(copies) for i in range(len(outlines))]
+        starts = rng.uniform(0, 1, m)
+        cw = rng.random(m) < 0.5
+        lengths = _one_lap_lengths(rows, n_links, starts, cw, mode)
+        angles, _, _, _ = _wrap_both_ways(rows, n_links, lengths, starts, np.zeros(m), cw, mode)
+        if cache:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            np.savez(path, angles=angles)
+    rng = np.random.default_rng([seed, 1])
+    if noise > 0:
+        angles = angles + rng.normal(0.0, noise, angles.shape)
+    n_shapes = len(outlines)
+    return Bunch(
+        data=angles,
+        target=np.tile(labels, copies),
+        groups=np.tile(np.arange(n_shapes), copies),
+        wrap_index=np.repeat(np.arange(copies), n_shapes),
+        names=np.tile(np.array(names), copies),
+        DESCR=f"MPEG-7 Part B, one-lap {mode} wraps of {n_links} links.",
+    )

@@ -1,0 +1,164 @@
+"""How well a chain of links samples an outline (thesis section 4.5).
+
+A link of length ``l`` samples the outline at spatial frequency ``1 / l``:
+detail finer than about ``2 l`` is lost. These functions measure that loss on
+actual wraps, and find link lengths that keep it small or close a lap exactly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from ._typing import ArrayLike
+from ._validation import check_positive_float, check_positive_int
+from .errors import InputError
+from .shapes import as_outline
+from .wrapping import wrap, wrap_many
+from .wrapping._surface import build_surface
+
+__all__ = ["capture_error", "closing_link_length", "max_link_length"]
+
+
+def _diameter(outline: np.ndarray) -> float:
+    return build_surface(outline, "taut", 0.0, 0.0, False, 0.0).diameter
+
+
+def capture_error(
+    outline: ArrayLike,
+    link_length: float,
+    *,
+    starts: ArrayLike = (0.0,),
+    mode: str = "taut",
+) -> float:
+    """Hausdorff distance between one lap of the chain and the outline, per diameter.
+
+    Parameters
+    ----------
+    outline : array_like of shape (n_points, 2)
+    link_length : float
+    starts : array_like of float, default=(0.0,)
+        Start points (fractions of the perimeter); the error is averaged over them.
+    mode : {"taut", "hug"}, default="taut"
+
+    Returns
+    -------
+    error : float
+        Mean over ``starts`` of ``hausdorff(chain polygon, outline) / diameter``,
+        the chain polygon being the joints of the first lap.
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import square, circle
+    >>> capture_error(square(4), 1.0)  # joints on the corners: exact
+    0.0
+    >>> round(capture_error(circle(1.0, 720), 0.5), 4)  # sagitta 1 - cos(asin(1/4)), per 2
+    0.0159
+    """
+    p = as_outline(outline)
+    ln = check_positive_float(link_length, "link_length")
+    st = np.atleast_1d(np.asarray(starts, float))
+    per = float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
+    n = int(np.ceil(per / ln)) + 2
+    batch = wrap_many(p, n, ln, starts=st, mode=mode)
+    ring = shapely.LinearRing(p)
+    diameter = _diameter(p)
+    errors = []
+    for i in range(len(st)):
+        w = batch[i]
+        joints = w.joints[(w.lap >= -1) & (np.maximum.accumulate(w.lap) <= 0)]
+        if len(joints) < 3:
+            joints = w.joints
+        chain = shapely.LinearRing(joints) if len(joints) >= 3 else shapely.LineString(joints)
+        errors.append(shapely.hausdorff_distance(chain, ring) / diameter)
+    return float(np.mean(errors))
+
+
+def max_link_length(
+    outline: ArrayLike,
+    tolerance: float,
+    *,
+    starts: ArrayLike = (0.0,),
+    mode: str = "taut",
+    n_grid: int = 64,
+) -> float:
+    """Largest link length whose capture error, and every shorter one's, stays within ``tolerance``.
+
+    Scans ``n_grid`` link lengths geometrically spaced from diameter / 1000 to the
+    diameter and returns the last one before the first that exceeds the
+    tolerance (the error is not monotone: a square's corners are hit exactly
+    at ``a/2``, ``a/4``, ...).
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import circle
+    >>> l = max_link_length(circle(1.0, 720), 0.02)
+    >>> 0.4 < l < 0.7
+    True
+    """
+    p = as_outline(outline)
+    tol = check_positive_float(tolerance, "tolerance")
+    n_grid = check_positive_int(n_grid, "n_grid", minimum=2)
+    d = _diameter(p)
+    grid = np.geomspace(d / 1000, d, n_grid)
+    best = None
+    for ln in grid:
+        if capture_error(p, ln, starts=starts, mode=mode) > tol:
+            break
+        best = float(ln)
+    if best is None:
+        raise InputError(f"no link length down to {grid[0]:g} keeps the capture error <= {tol}")
+    return best
+
+
+def closing_link_length(
+    outline: ArrayLike,
+    n_links: int,
+    *,
+    start: float = 0.0,
+    direction: str = "ccw",
+    mode: str = "taut",
+    rtol: float = 1e-12,
+) -> tuple[float, float]:
+    """Link length with which ``n_links`` links wrap exactly one lap, by bisection.
+
+    Returns ``(link_length, gap)``: ``gap`` is the distance between the last
+    joint and the first (0 for a closed chain). The walk can jump when a longer
+    link bridges a protrusion; the bisection then stops at the jump and the
+    gap says how far from closed the chain is.
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import square
+    >>> l, gap = closing_link_length(square(4), 16)
+    >>> round(l, 9), round(gap, 9)
+    (1.0, 0.0)
+    """
+    p = as_outline(outline)
+    n = check_positive_int(n_links, "n_links", minimum=2)
+    per = float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
+    d = _diameter(p)
+
+    def laps(ln: float) -> float:
+        # 1 once the chain has reached its start point again along the support
+        w = wrap(p, n, ln, start=start, direction=direction, mode=mode)
+        closed = np.hypot(*(w.joints[-1] - w.start_point)) <= 1e-9 * d
+        return 1.0 if closed or w.lap.max() >= 1 else 0.0
+
+    # n links of length l advance at least n * l along the support: > 1 lap at P / n.
+    hi = min(1.001 * per / n, d)
+    lo = per / (4 * n)
+    if laps(hi) < 1:
+        raise InputError(f"{n} links cannot wrap this outline once (too few links)")
+    while laps(lo) >= 1 and lo > 1e-9 * d:
+        lo /= 2
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if laps(mid) >= 1 - 1e-12:
+            hi = mid
+        else:
+            lo = mid
+        if hi - lo <= rtol * hi:
+            break
+    w = wrap(p, n, hi, start=start, direction=direction, mode=mode)
+    return hi, float(np.hypot(*(w.joints[-1] - w.joints[0])))

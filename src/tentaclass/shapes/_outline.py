@@ -1,0 +1,170 @@
+"""Outline validation and the primitive outlines (square, circle, ...).
+
+An *outline* is a closed, simple, counter-clockwise polygon stored as an
+``(n_points, 2)`` float array; the closing edge from the last point back to
+the first is implied (the first point is not repeated at the end).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import shapely
+
+from .._typing import ArrayLike, FloatArray
+from .._validation import as_points_array, check_positive_float, check_positive_int
+from ..errors import InputError
+
+__all__ = [
+    "as_outline",
+    "circle",
+    "polygon",
+    "rectangle",
+    "regular_polygon",
+    "signed_area",
+    "square",
+    "triangle",
+]
+
+
+def signed_area(outline: FloatArray) -> float:
+    """Shoelace area: positive for a counter-clockwise outline."""
+    x, y = outline[:, 0], outline[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def as_outline(points: ArrayLike, name: str = "outline") -> FloatArray:
+    """Validate a closed outline and return it counter-clockwise, as a new array.
+
+    A repeated first point at the end and consecutive duplicate points are
+    dropped. Raises :class:`~tentaclass.errors.InputError` (a ``ValueError``) for
+    NaN, fewer than 3 distinct points, zero area or a self-intersecting outline.
+    """
+    p = as_points_array(points, name, min_points=3)
+    if p.ndim != 2:
+        raise InputError(f"{name} must have shape (n_points, 2), got shape {p.shape}")
+    keep = np.any(p != np.roll(p, 1, axis=0), axis=1)
+    if not np.any(keep):
+        raise InputError(f"{name} has fewer than 3 distinct points: all its points coincide")
+    p = p[keep]
+    if len(p) < 3:
+        raise InputError(f"{name} has fewer than 3 distinct points ({len(p)})")
+    scale = float(np.ptp(p, axis=0).max())
+    area = signed_area(p)
+    if abs(area) <= 1e-12 * scale * scale:
+        raise InputError(f"{name} has zero area: its points are collinear")
+    ring = shapely.LinearRing(p)
+    if not ring.is_simple:
+        raise InputError(
+            f"{name} intersects itself: an outline must be a simple closed polygon "
+            "(check the point order)"
+        )
+    return np.ascontiguousarray(p if area > 0 else p[::-1])
+
+
+def polygon(vertices: ArrayLike) -> FloatArray:
+    """A polygon outline from its vertices, validated and oriented counter-clockwise.
+
+    Parameters
+    ----------
+    vertices : array_like of shape (n_vertices, 2)
+        Vertices in order, either orientation; the closing edge is implied and a
+        repeated first vertex at the end is dropped.
+
+    Returns
+    -------
+    outline : ndarray of shape (n_vertices, 2)
+
+    Raises
+    ------
+    InputError
+        NaN, fewer than 3 distinct points, zero area or self-intersection.
+
+    Examples
+    --------
+    >>> polygon([(0, 0), (0, 1), (1, 0)])  # clockwise in, counter-clockwise out
+    array([[1., 0.],
+           [0., 1.],
+           [0., 0.]])
+    """
+    return as_outline(vertices, "vertices")
+
+
+def rectangle(width: float, height: float) -> FloatArray:
+    """Axis-aligned rectangle centred on the origin, starting at its lower-left corner.
+
+    Examples
+    --------
+    >>> rectangle(6, 2)
+    array([[-3., -1.],
+           [ 3., -1.],
+           [ 3.,  1.],
+           [-3.,  1.]])
+    """
+    w = check_positive_float(width, "width") / 2
+    h = check_positive_float(height, "height") / 2
+    return np.array([(-w, -h), (w, -h), (w, h), (-w, h)])
+
+
+def square(side: float) -> FloatArray:
+    """Square centred on the origin, starting at its lower-left corner.
+
+    Examples
+    --------
+    >>> square(4)[0], square(4).shape
+    (array([-2., -2.]), (4, 2))
+    """
+    return rectangle(side, side)
+
+
+def triangle(vertices: ArrayLike | None = None, *, side: float = 1.0) -> FloatArray:
+    """A triangle: three vertices (any side lengths), or equilateral with ``side``.
+
+    Examples
+    --------
+    >>> triangle([(0, 0), (3, 0), (0, 1)]).shape
+    (3, 2)
+    >>> round(float(abs(signed_area(triangle(side=2)))), 6)  # sqrt(3)
+    1.732051
+    """
+    if vertices is None:
+        s = check_positive_float(side, "side")
+        return np.array([(-s / 2, 0.0), (s / 2, 0.0), (0.0, s * np.sqrt(3) / 2)])
+    p = as_outline(vertices, "vertices")
+    if len(p) != 3:
+        raise InputError(f"a triangle needs 3 distinct vertices, got {len(p)}")
+    return p
+
+
+def regular_polygon(n_sides: int, radius: float) -> FloatArray:
+    """Regular polygon with circumradius ``radius``, a flat bottom side, starting at a vertex.
+
+    Examples
+    --------
+    >>> p = regular_polygon(4, np.sqrt(2))
+    >>> np.round(p, 12) + 0.0
+    array([[ 1., -1.],
+           [ 1.,  1.],
+           [-1.,  1.],
+           [-1., -1.]])
+    """
+    n = check_positive_int(n_sides, "n_sides", minimum=3)
+    r = check_positive_float(radius, "radius")
+    a = -np.pi / 2 + np.pi / n + 2 * np.pi * np.arange(n) / n
+    return r * np.stack([np.cos(a), np.sin(a)], axis=1)
+
+
+def circle(radius: float, n_points: int = 256) -> FloatArray:
+    """Circle centred on the origin as a regular ``n_points``-gon, starting at ``(radius, 0)``.
+
+    Examples
+    --------
+    >>> circle(1.0, n_points=4).round(12) + 0.0
+    array([[ 1.,  0.],
+           [ 0.,  1.],
+           [-1.,  0.],
+           [ 0., -1.]])
+    """
+    r = check_positive_float(radius, "radius")
+    n = check_positive_int(n_points, "n_points", minimum=3)
+    a = 2 * np.pi * np.arange(n) / n
+    return r * np.stack([np.cos(a), np.sin(a)], axis=1)

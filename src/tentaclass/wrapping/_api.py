@@ -1,0 +1,373 @@
+"""Public entry points: :func:`wrap` and :func:`wrap_many`."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from .._typing import ArrayLike, FloatArray
+from .._validation import check_positive_float, check_positive_int
+from ..errors import InputError
+from ..shapes import as_outline
+from ._result import Wrap, WrapBatch
+from ._surface import Surface, build_surface, point_at_fraction
+
+__all__ = ["Wrap", "WrapBatch", "wrap", "wrap_many"]
+
+_MODES = ("taut", "hug")
+#: A stretch of support within this fraction of a link of the outline counts as
+#: resting on the object: links between two joints on it are chords (they may
+#: cut the cap they span) and are not tested for crossing.
+SLACK = 0.05
+_DIRECTIONS = ("ccw", "cw")
+
+
+def _choice(value: object, name: str, options: tuple[str, ...]) -> str:
+    if not isinstance(value, str) or value.lower() not in options:
+        raise InputError(f"{name} must be one of {', '.join(map(repr, options))}, got {value!r}")
+    return value.lower()
+
+
+def _as_batch(x: ArrayLike, name: str, b: int | None, lo: float, hi: float | None) -> FloatArray:
+    try:
+        arr = np.asarray(x, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be a number or an array of numbers") from exc
+    if arr.ndim > 1:
+        raise InputError(f"{name} must be a scalar or 1-D, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InputError(f"{name} contains NaN or infinite values")
+    if np.any(arr < lo) or (hi is not None and np.any(arr >= hi)):
+        rng = f"[{lo:g}, {hi:g})" if hi is not None else f">= {lo:g}"
+        raise InputError(f"{name} must lie in {rng}, got {x!r}")
+    return arr if b is None else np.broadcast_to(arr, (b,)).copy()
+
+
+def _inward_normal(curve: FloatArray, e: int, t: float) -> FloatArray:
+    """Inward normal of the support edge that leaves the point (edge ``e`` at ``t``)."""
+    m = len(curve)
+    if t >= 1 - 1e-9:
+        e = (e + 1) % m
+    d = curve[(e + 1) % m] - curve[e]
+    return np.array([-d[1], d[0]]) / np.hypot(*d)
+
+
+def _run(
+    surf: Surface,
+    outline: FloatArray,
+    n: int,
+    ls: FloatArray,
+    starts: FloatArray,
+    offsets: FloatArray,
+    mirror: bool,
+) -> dict:
+    b = len(ls)
+    c_count = len(surf.off) - 1
+    p0 = point_at_fraction(outline, starts)
+    if mirror:
+        p0 = p0 * [-1.0, 1.0]
+    es = np.empty((b, c_count), np.int64)
+    spt = np.empty((b, c_count, 2))
+    from . import _kernel  # numba: imported (and compiled) on first use
+
+    e0, t0, s0 = _kernel.locate(p0, np.ascontiguousarray(surf.curve(0)))
+    es[:, 0], spt[:, 0] = e0, s0
+    for c in range(1, c_count):
+        ec, _, sc = _kernel.locate(s0, np.ascontiguousarray(surf.curve(c)))
+        es[:, c], spt[:, c] = ec, sc
+    th0 = surf.theta[surf.off[0] + e0]
+    approach = offsets > 0
+    bases = s0.copy()
+    app_th = th0 + np.pi / 2
+    for q in np.flatnonzero(approach):
+        nin = _inward_normal(surf.curve(0), int(e0[q]), float(t0[q]))
+        bases[q] = s0[q] - offsets[q] * nin
+        a = np.arctan2(nin[1], nin[0])
+        app_th[q] = a + np.round((app_th[q] - a) / (2 * np.pi)) * 2 * np.pi
+    max_search = offsets + surf.max_perimeter + 2 * ls
+    check = 3 if surf.mode == "hug" else 2
+    eps = 1e-12 * surf.scale * surf.scale
+    joints, contact, lap, phi, status, placed, phi_v = _kernel.walk_many(
+        n, ls, surf.pts, surf.off, surf.theta, surf.dev, surf.outline, eps, es, spt, th0,
+        bases, app_th, approach, check, surf.n_laps, max_search, SLACK, 1e-9 * surf.scale,
+        0.5 * surf.perimeter, surf.vidx,
+    )  # fmt: skip
+    return {
+        "joints": joints, "contact": contact, "lap": lap, "phi": phi, "status": status,
+        "placed": placed, "phi_v": phi_v, "start": s0,
+    }  # fmt: skip
+
+
+def _geom_locate(points, curve):
+    from ._geom import locate
+
+    return locate(points, curve)
+
+
+def _is_single(outlines: object) -> bool:
+    if isinstance(outlines, np.ndarray):
+        return outlines.ndim == 2
+    if isinstance(outlines, Sequence) and len(outlines) > 0:
+        first = outlines[0]
+        return np.ndim(first) == 1
+    return True
+
+
+def wrap_many(
+    outlines: ArrayLike | Sequence[ArrayLike],
+    n_links: int,
+    link_length: ArrayLike,
+    starts: ArrayLike = 0.0,
+    *,
+    direction: str = "ccw",
+    offset: ArrayLike = 0.0,
+    mode: str = "taut",
+    noise: float = 0.0,
+    seed: int | np.random.Generator | None = None,
+    thickness: float = 0.0,
+) -> WrapBatch:
+    """Many wraps at once: one outline with many start points, or many outlines.
+
+    Parameters
+    ----------
+    outlines : array_like of shape (n_points, 2), or a sequence of them
+        One outline (the batch runs over ``starts``, ``link_length`` and
+        ``offset``, broadcast together), or one outline per wrap.
+    n_links, link_length, starts, direction, offset, mode, noise, seed, thickness
+        As in :func:`wrap`; ``link_length``, ``starts`` and ``offset`` may be
+        1-D arrays (one value per wrap).
+
+    Returns
+    -------
+    WrapBatch
+        Stacked arrays with a leading batch axis; ``batch[i]`` is a :class:`Wrap`.
+        Wraps that stopped early are padded with NaN (angles, joints) and -2 (lap).
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import circle
+    >>> b = wrap_many(circle(1.0), 16, 0.39, starts=np.linspace(0, 1, 100, endpoint=False))
+    >>> b.angles.shape, bool(b.complete.all())
+    ((100, 16), True)
+    """
+    n = check_positive_int(n_links, "n_links")
+    direction = _choice(direction, "direction", _DIRECTIONS)
+    mode = _choice(mode, "mode", _MODES)
+    noise = check_positive_float(noise, "noise", allow_zero=True)
+    thickness = check_positive_float(thickness, "thickness", allow_zero=True)
+    single = _is_single(outlines)
+    if single:
+        shapes = [as_outline(outlines)]
+        ls = _as_batch(link_length, "link_length", None, 0.0, None)
+        st = _as_batch(starts, "starts", None, 0.0, 1.0)
+        off = _as_batch(offset, "offset", None, 0.0, None)
+        b = int(np.broadcast_shapes(ls.shape, st.shape, off.shape, (1,))[0])
+        groups = [np.arange(b)]
+        if mode == "hug":  # the support depends on the link length
+            lb = np.broadcast_to(ls, (b,))
+            groups = [np.flatnonzero(lb == v) for v in np.unique(lb)]
+            shapes = shapes * len(groups)
+    else:
+        shapes = [as_outline(o, f"outlines[{i}]") for i, o in enumerate(outlines)]
+        b = len(shapes)
+        groups = [np.array([i]) for i in range(b)]
+    ls = _as_batch(link_length, "link_length", b, 0.0, None)
+    st = _as_batch(starts, "starts", b, 0.0, 1.0)
+    off = _as_batch(offset, "offset", b, 0.0, None)
+    if np.any(ls <= 0):
+        raise InputError(f"link_length must be > 0, got {link_length!r}")
+    mirror = direction == "cw"
+    out = {
+        "joints": np.full((b, n + 1, 2), np.nan),
+        "contact": np.zeros((b, n + 1), bool),
+        "lap": np.full((b, n + 1), -2, np.int64),
+        "phi": np.full((b, n + 1), np.nan),
+        "status": np.zeros(b, np.int64),
+        "placed": np.zeros(b, np.int64),
+        "phi_v": np.zeros(b),
+        "start": np.zeros((b, 2)),
+    }
+    on_start = np.zeros(b, bool)
+    scales = np.zeros(b)
+    for outline, rows in zip(shapes, groups, strict=True):
+        surf = build_surface(
+            outline, mode, thickness, float(n * ls[rows].max()), mirror, float(ls[rows][0])
+        )
+        too_long = ls[rows] > surf.diameter
+        if np.any(too_long):
+            raise InputError(
+                f"link_length {ls[rows][too_long][0]:g} is longer than the object's diameter "
+                f"{surf.diameter:g}: a link must fit between two points of the outline "
+                f"(use link_length <= {surf.diameter:g})"
+            )
+        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror)
+        for key, val in res.items():
+            out[key][rows] = val
+        e0, _, _ = _geom_locate(res["start"], np.ascontiguousarray(surf.curve(0)))
+        on_start[rows] = surf.dev[e0] <= 1e-9 * surf.scale
+        scales[rows] = surf.scale
+    return _finish(out, n, ls, off, mirror, noise, seed, on_start, scales, direction)
+
+
+def _finish(out, n, ls, off, mirror, noise, seed, on_start, scales, direction) -> WrapBatch:
+    b = len(ls)
+    joints, lap, phi, placed = out["joints"], out["lap"], out["phi"], out["placed"]
+    s0 = out["start"]
+    contact = out["contact"]
+    # A joint that lands exactly on the start point at the end of the approach.
+    at_start = (lap == -1) & (np.hypot(*np.moveaxis(joints - s0[:, None], -1, 0))
+                              < 1e-9 * scales[:, None])  # fmt: skip
+    contact |= at_start & on_start[:, None]
+    lap[at_start] = 0
+    angles = np.diff(phi, axis=1)
+    heading = phi[:, 0].copy()
+    offset_links = np.where(off > 0, np.ceil(off / ls - 1e-9), 0).astype(np.int64)
+    rows = np.arange(b)
+    last = phi[rows, placed]
+    # Laps count from the direction of the support at the start point: the chord
+    # arriving there (closed arrays sum to 2 pi) or, after an approach along the
+    # inward normal, the edge direction (a quarter turn right of the approach).
+    ref = np.where(off > 0, phi[:, 0] - np.pi / 2, out["phi_v"])
+    laps = np.where(placed >= offset_links, (last - ref) / (2 * np.pi), 0.0)
+    has = (lap >= 1).any(axis=1)
+    first = np.argmax(lap >= 1, axis=1)
+    d_first = np.hypot(*(joints[rows, first] - s0).T)
+    prev = np.maximum(first - 1, 0)
+    d_prev = np.where(lap[rows, prev] == 0, np.hypot(*(joints[rows, prev] - s0).T), np.inf)
+    d_last = np.hypot(*(joints[rows, placed] - s0).T)
+    closed_now = (placed > offset_links) & (d_last <= 1e-9 * scales)
+    gap = np.where(has, np.minimum(d_first, d_prev), np.where(closed_now, d_last, np.nan))
+    if mirror:
+        joints[..., 0] *= -1
+        s0 = s0 * [-1.0, 1.0]
+        angles = -angles
+        heading = np.pi - heading
+    heading = np.pi - np.mod(np.pi - heading, 2 * np.pi)
+    if noise > 0:
+        rng = np.random.default_rng(seed)
+        angles = angles + rng.normal(0.0, noise, angles.shape)
+    batch = WrapBatch(
+        angles=angles,
+        joints=joints,
+        contact=contact,
+        lap=lap,
+        laps=laps,
+        offset_links=offset_links,
+        heading=heading,
+        complete=out["status"] == 0,  # _kernel.STATUS_COMPLETE
+        n_placed=placed,
+        closure_gap=gap,
+        start_point=s0,
+    )
+    object.__setattr__(batch, "_link_length", ls)
+    object.__setattr__(batch, "_direction", direction)
+    return batch
+
+
+def wrap(
+    outline: ArrayLike,
+    n_links: int,
+    link_length: float,
+    start: float = 0.0,
+    direction: str = "ccw",
+    offset: float = 0.0,
+    mode: str = "taut",
+    noise: float = 0.0,
+    seed: int | np.random.Generator | None = None,
+    thickness: float = 0.0,
+) -> Wrap:
+    """Joint angles of a chain of ``n_links`` equal links wrapped around an object.
+
+    Parameters
+    ----------
+    outline : array_like of shape (n_points, 2)
+        Closed simple outline (any orientation; see :mod:`tentaclass.shapes`).
+    n_links : int
+        Number of links, at least 1.
+    link_length : float
+        Length ``l`` of every link, ``0 < l <=`` the object's diameter.
+    start : float, default=0.0
+        Start point as a fraction of the perimeter in [0, 1), measured
+        counter-clockwise from the outline's first point.
+    direction : {"ccw", "cw"}, default="ccw"
+        Walking direction. ``"cw"`` is the mirror image: its angles sum to
+        ``-2*pi`` per lap.
+    offset : float, default=0.0
+        Distance of the base from the support (the thesis's epsilon), along the
+        inward normal at the start point: the first ``ceil(offset / l)`` links
+        reach straight towards the start point, then the chain wraps.
+    mode : {"taut", "hug"}, default="taut"
+        Support of the first lap: ``"taut"`` the convex hull (a chain pulled
+        tight), ``"hug"`` the outline itself, into every concavity a link can
+        enter.
+    noise : float, default=0.0
+        Standard deviation (radians) of Gaussian joint-sensor noise added to the
+        angles; ``joints`` stay noise-free.
+    seed : int or numpy.random.Generator, optional
+        Makes the noise reproducible.
+    thickness : float, default=0.0
+        Chain thickness: lap ``k`` lies on the support offset outward by
+        ``k * thickness`` (shapely buffer, round joins). 0: later laps lie on the
+        first lap's support.
+
+    Returns
+    -------
+    Wrap
+
+    Raises
+    ------
+    InputError
+        Bad outline (NaN, fewer than 3 distinct points, zero area,
+        self-intersection), ``link_length`` <= 0 or longer than the object's
+        diameter, ``n_links`` < 1, ``start`` outside [0, 1), unknown mode.
+
+    Notes
+    -----
+    **Contact model.** The joints are the chain's contact points; each link is a
+    rigid straight bar. From the current joint the next joint is the first point
+    further along the support (in the walking direction) at distance ``l``
+    (circle-segment intersection searched forward). Between two contacts a link
+    may cut the stretch of outline it spans (the detail finer than a link that
+    the chain cannot sense, thesis section 4.5), but it never *crosses* the
+    object: it does not pass from outside to inside through the outline
+    between its joints. Where the next chord would, the link instead rests on
+    the vertex it passes that lies furthest clockwise seen from its joint (for
+    a ccw walk: the tangent point), and its tip stays in the air beyond that
+    corner; the following link reaches down from there. A joint with no next
+    joint within one lap (a link longer than the space around it) ends the
+    chain: ``complete`` is False. Later laps lie on the support offset by
+    ``thickness`` per lap, joined to the previous lap at the start point.
+
+    **Angles.** ``angles[i]`` is the turn at joint ``i`` from link ``i`` to link
+    ``i + 1`` (``angles[0]`` from ``heading``), so that
+    ``angles_to_points(w.angles, l, base=w.joints[0], heading=w.heading)``
+    rebuilds ``w.joints``. With an offset, ``heading`` is the approach
+    direction (``angles[0] = 0``). Without one, ``heading`` is the direction of
+    the chord arriving at the start point from one link length behind it:
+    for a closed single wrap that is the last link, so ``angles[0]`` is the
+    turn at the first joint relative to the last link and the angles are the
+    thesis's closed arrays (they sum to ``2*pi``).
+
+    **Thin parts.** A link's direction is only known modulo ``2*pi``; each
+    heading is taken on the branch closest to the support's tangent direction
+    between the link's two ends. Turns around a part thinner than a link are
+    therefore close to ``+pi`` for a ccw walk (never ``-pi``), and the angles
+    of every full lap sum to exactly ``2*pi``.
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import square
+    >>> w = wrap(square(4), 16, 1.0)
+    >>> np.round(w.angles / (np.pi / 2), 6) + 0.0
+    array([1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0.])
+    >>> w.laps, w.complete
+    (1.0, True)
+    >>> wrap(square(4), 8, 1.0, offset=2.0).offset_links
+    2
+    """
+    batch = wrap_many(
+        outline, n_links, link_length, start, direction=direction, offset=offset, mode=mode,
+        noise=noise, seed=seed, thickness=thickness,
+    )  # fmt: skip
+    return batch[0]

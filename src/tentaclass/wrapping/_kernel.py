@@ -1,0 +1,453 @@
+"""Compiled inner loop of the wrap: chord walking along a support track.
+
+Hand-written because no library walks a chain of fixed-length links along a
+polyline (circle-segment intersections searched forward) with a crossing test
+per link; numba compiles it (``cache=True``: compiled once per machine).
+
+Data layout (built by ``_surface``): ``pts`` holds the vertices of every lap
+curve back to back, curve ``c`` at ``pts[off[c]:off[c + 1]]``; ``theta`` the
+unwrapped direction of each curve edge; ``dev`` how far an edge of curve 0
+strays from the object's outline (0 where it is an outline edge). A wrap's
+*track* is: the approach segment (base -> start point ``S_0``), then lap 0
+on curve 0 from ``S_0`` round to ``S_0``, then lap 1 on curve
+``min(1, C - 1)`` from its start point ``S_1``, and so on.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from ._geom import (
+    TWO_PI,
+    _near,
+    crosses,
+    crossing_edge,
+    crossing_edge_range,
+    free_direction,
+    locate,
+)
+
+__all__ = ["crosses", "locate", "walk", "walk_many"]
+
+STATUS_COMPLETE = 0
+STATUS_JAMMED = 1
+STATUS_EXHAUSTED = 2
+
+
+@nb.njit(cache=True)
+def _segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps):
+    """Segment ``j`` of lap ``k`` (``k == -1``: the approach).
+
+    Returns ``x0, y0, x1, y1, theta, deviation, n_segments_in_lap``; the
+    deviation is how far the segment strays from the object's outline (inf for
+    segments that are not on curve 0).
+    """
+    if k < 0:
+        return base[0], base[1], spt[0, 0], spt[0, 1], app_th, np.inf, 1
+    n_curves = off.shape[0] - 1
+    c = min(k, n_curves - 1)
+    o = off[c]
+    m = off[c + 1] - o
+    e0 = es[c]
+    c_next = min(k + 1, n_curves - 1)
+    nseg = m + 1
+    if c_next != c and k + 1 < n_laps:
+        nseg = m + 2
+    shift = th0 + TWO_PI * k - theta[o + e0]
+    if j == m + 1:  # transition to the next lap's curve
+        x0, y0 = spt[c, 0], spt[c, 1]
+        x1, y1 = spt[c_next, 0], spt[c_next, 1]
+        th = _near(np.arctan2(y1 - y0, x1 - x0), theta[o + e0] + shift + TWO_PI)
+        return x0, y0, x1, y1, th, np.inf, nseg
+    ee = e0 + j
+    i0 = o + ee % m
+    th = theta[i0] + TWO_PI * (ee // m) + shift
+    on = dev[i0] if c == 0 else np.inf
+    if j == 0:
+        i1 = o + (e0 + 1) % m
+        return spt[c, 0], spt[c, 1], pts[i1, 0], pts[i1, 1], th, on, nseg
+    if j == m:
+        return pts[i0, 0], pts[i0, 1], spt[c, 0], spt[c, 1], th, on, nseg
+    i1 = o + (ee + 1) % m
+    return pts[i0, 0], pts[i0, 1], pts[i1, 0], pts[i1, 1], th, on, nseg
+
+
+@nb.njit(cache=True)
+def _virtual_heading(ln, pts, off, theta, es, spt, th0):
+    """Heading of the chord arriving at ``S_0`` from one link length behind it on curve 0."""
+    o = off[0]
+    m = off[1] - o
+    e0 = es[0]
+    ax, ay = spt[0, 0], spt[0, 1]
+    x0, y0 = ax, ay
+    shift = th0 - theta[o + e0]
+    for step in range(m + 1):
+        ee = e0 - step
+        i0 = o + ee % m
+        x1, y1 = pts[i0, 0], pts[i0, 1]
+        dx, dy = x1 - x0, y1 - y0
+        A = dx * dx + dy * dy
+        if A > 0:
+            fx, fy = x0 - ax, y0 - ay
+            B = 2.0 * (fx * dx + fy * dy)
+            C0 = fx * fx + fy * fy - ln * ln
+            disc = B * B - 4.0 * A * C0
+            if disc >= 0:
+                tau = (-B + np.sqrt(disc)) / (2.0 * A)
+                if tau <= 1.0:
+                    px, py = x0 + tau * dx, y0 + tau * dy
+                    # theta of edge ee (unwrapped, may be negative index)
+                    th_e = theta[i0] + TWO_PI * np.floor(ee / m) + shift
+                    return _near(np.arctan2(ay - py, ax - px), 0.5 * (th_e + th0))
+        x0, y0 = x1, y1
+    return th0
+
+
+@nb.njit(cache=True)
+def _search(
+    ax,
+    ay,
+    ln,
+    k,
+    j,
+    px,
+    py,
+    skip_first,
+    slack,
+    limit,
+    pts,
+    off,
+    theta,
+    dev,
+    es,
+    spt,
+    th0,
+    base,
+    app_th,
+    n_laps,
+):
+    """Next point of the track after cursor ``(k, j, p)`` at distance ``l`` from ``a``.
+
+    Returns ``(status, k, j, x, y, theta, deviation, bridged, walked)``; status 0
+    found, 1 nothing within ``limit`` of arc, 2 out of laps. ``skip_first``
+    ignores a root at the cursor itself (continuing after a rejected point).
+    """
+    bridged = False
+    walked = 0.0
+    while True:
+        seg = _segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps)
+        x1, y1, th, dv, nseg = seg[2], seg[3], seg[4], seg[5], seg[6]
+        dx, dy = x1 - px, y1 - py
+        A = dx * dx + dy * dy
+        if A > 0:
+            fx, fy = px - ax, py - ay
+            B = 2.0 * (fx * dx + fy * dy)
+            C0 = fx * fx + fy * fy - ln * ln
+            disc = B * B - 4.0 * A * C0
+            if dv > slack:
+                bridged = True
+            if disc >= 0:
+                sq = np.sqrt(disc)
+                # after a rejected point, skip roots within 1e-9 l of it
+                lo = 1e-9 * ln / np.sqrt(A) if skip_first else 0.0
+                for tau in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
+                    if lo < tau <= 1.0 or (tau == 0.0 and not skip_first and C0 <= 0):
+                        return 0, k, j, px + tau * dx, py + tau * dy, th, dv, bridged, walked
+            walked += np.sqrt(A)
+        skip_first = False
+        if walked > limit:
+            return 1, k, j, px, py, th, dv, bridged, walked
+        j += 1
+        px, py = x1, y1
+        if j >= nseg:
+            k += 1
+            j = 0
+            if k >= n_laps:
+                return 2, k, j, px, py, th, dv, bridged, walked
+
+
+@nb.njit(cache=True)
+def walk(
+    n,
+    ln,
+    pts,
+    off,
+    theta,
+    dev,
+    obj,
+    eps,
+    es,
+    spt,
+    th0,
+    base,
+    app_th,
+    approach,
+    check,
+    n_laps,
+    max_search,
+    slack,
+    exact,
+    bridge_limit,
+    vidx,
+    joints,
+    contact,
+    lap,
+    phi,
+):
+    """Place ``n`` links; fill ``joints`` (n+1, 2), ``contact``, ``lap`` and ``phi`` (n+1).
+
+    ``check``: 0 never test crossings; 2 test links that do not join two points
+    of the object's own edges (caps of the outline are allowed; anything
+    bridging or in the air is tested) and let a crossing link rest on the
+    corner it passes; 3 as 2, but first look further along (up to
+    ``bridge_limit`` of arc) for a point the link can reach without crossing.
+    ``vidx`` (taut): the outline index of each hull vertex; a link between two
+    points of curve 0 is then only tested against the outline between the hull
+    vertices around it (the only part of the object its hull cap can hold).
+    Returns ``(status, n_placed, phi_virtual)``.
+    """
+    m0 = off[1] - off[0]
+    m_obj = obj.shape[0]
+    k = -1 if approach else 0
+    j = 0
+    if approach:
+        px, py = base[0], base[1]
+    else:
+        px, py = spt[0, 0], spt[0, 1]
+    seg = _segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps)
+    a_th = seg[4]
+    a_on = seg[5] <= exact and not approach
+    a_sup = seg[5] <= slack and not approach
+    ax, ay = px, py
+    joints[0, 0], joints[0, 1] = ax, ay
+    contact[0] = a_on and k == 0
+    lap[0] = k
+    phi_v = _virtual_heading(ln, pts, off, theta, es, spt, th0)
+    phi[0] = app_th if approach else phi_v
+    status = STATUS_COMPLETE
+    placed = 0
+    for i in range(1, n + 1):
+        sk, sj, spx, spy = k, j, px, py
+        r = _search(
+            ax,
+            ay,
+            ln,
+            k,
+            j,
+            px,
+            py,
+            False,
+            slack,
+            max_search,
+            pts,
+            off,
+            theta,
+            dev,
+            es,
+            spt,
+            th0,
+            base,
+            app_th,
+            n_laps,
+        )
+        if r[0] != 0:
+            status = STATUS_JAMMED if r[0] == 1 else STATUS_EXHAUSTED
+            break
+        k, j, xx, xy, x_th, x_dev = r[1], r[2], r[3], r[4], r[5], r[6]
+        bridged = r[7] or not a_sup
+        overhang = False
+        cross = False
+        if check >= 2 and bridged:
+            if (
+                vidx.shape[0] > 0
+                and sk >= 0
+                and k >= 0
+                and min(sk, k) < n_laps
+                and (off.shape[0] == 2 or max(sk, k) == 0)
+                and sj <= m0
+                and j <= m0
+            ):
+                i0 = vidx[(es[0] + sj) % m0] - 1
+                i1 = vidx[(es[0] + j + 1) % m0]
+                cnt = (i1 - i0) % m_obj + 2
+                if (k - sk) * m0 + j - sj >= m0 - 1:
+                    cnt = m_obj
+                cross = crossing_edge_range(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt) >= 0
+            else:
+                cross = crosses(ax, ay, xx, xy, obj, eps)
+        if cross:
+            overhang = True
+            if check == 3:  # look further along for a point the link can reach
+                ck, cj, cx, cy, used = k, j, xx, xy, 0.0
+                for _ in range(10000):
+                    if used >= bridge_limit:
+                        break
+                    r2 = _search(
+                        ax,
+                        ay,
+                        ln,
+                        ck,
+                        cj,
+                        cx,
+                        cy,
+                        True,
+                        slack,
+                        bridge_limit - used,
+                        pts,
+                        off,
+                        theta,
+                        dev,
+                        es,
+                        spt,
+                        th0,
+                        base,
+                        app_th,
+                        n_laps,
+                    )
+                    if r2[0] != 0:
+                        break
+                    used += r2[8]
+                    ck, cj, cx, cy = r2[1], r2[2], r2[3], r2[4]
+                    if not crosses(ax, ay, cx, cy, obj, eps):
+                        k, j, xx, xy, x_th, x_dev = ck, cj, cx, cy, r2[5], r2[6]
+                        overhang = False
+                        break
+        if overhang:
+            # The chord would cut through the object: the link rests on the
+            # most clockwise vertex passed (the tangent seen from the joint)
+            # and its tip stays in the air.
+            ux, uy = xx - ax, xy - ay
+            best = np.inf
+            wk, wj, wx, wy, w_th = 0, 0, 0.0, 0.0, 0.0
+            ck, cj = sk, sj
+            while not (ck == k and cj == j):
+                s2 = _segment(ck, cj, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps)
+                vx, vy = s2[2] - ax, s2[3] - ay
+                if vx * vx + vy * vy > 1e-24 * ln * ln:
+                    ang = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
+                    if ang < best:
+                        best = ang
+                        wk, wj, wx, wy, w_th = ck, cj, s2[2], s2[3], s2[4]
+                cj += 1
+                if cj >= s2[6]:
+                    ck += 1
+                    cj = 0
+            if best == np.inf:  # nothing passed: rest where the cursor is
+                wk, wj, wx, wy, w_th = sk, sj, spx, spy, a_th
+                xx, xy = ax + ux, ay + uy
+            else:
+                rr = np.hypot(wx - ax, wy - ay)
+                xx, xy = ax + ln * (wx - ax) / rr, ay + ln * (wy - ay) / rr
+            # On a convex support (the hull) the link along the hull edge is
+            # free. Otherwise it may still be blocked: turn it on clockwise to
+            # the first outline vertex where it is free.
+            convex = vidx.shape[0] > 0 and (off.shape[0] == 2 or wk == 0)
+            tip_on = False
+            for _ in range(0 if convex else 64):
+                e = crossing_edge(ax, ay, xx, xy, obj, eps)
+                if e < 0:
+                    break
+                # rest on the more clockwise end of the blocking edge
+                ux, uy = xx - ax, xy - ay
+                e2 = e + 1 if e + 1 < m_obj else 0
+                v1x, v1y = obj[e, 0] - ax, obj[e, 1] - ay
+                v2x, v2y = obj[e2, 0] - ax, obj[e2, 1] - ay
+                a1 = np.arctan2(ux * v1y - uy * v1x, ux * v1x + uy * v1y)
+                a2 = np.arctan2(ux * v2y - uy * v2x, ux * v2x + uy * v2y)
+                vx, vy = (v1x, v1y) if a1 < a2 else (v2x, v2y)
+                if min(a1, a2) > -1e-12:
+                    break
+                rv = np.hypot(vx, vy)
+                xx, xy = ax + ln * vx / rv, ay + ln * vy / rv
+            if not convex and crosses(ax, ay, xx, xy, obj, eps):
+                ok, xx, xy, tip_on = free_direction(ax, ay, xx - ax, xy - ay, ln, obj, eps)
+                if not ok:
+                    status = STATUS_JAMMED
+                    break
+            if best == np.inf:
+                wj -= 1  # the cursor stays on its own segment
+            # cursor: the segment after vertex w
+            k, j, px, py = wk, wj + 1, wx, wy
+            nseg_w = _segment(wk, wj, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps)[6]
+            if j >= nseg_w:
+                k += 1
+                j = 0
+            x_th, x_on, x_sup = w_th, tip_on, False
+            lap[i] = -1
+        else:
+            px, py = xx, xy
+            lap[i] = k
+            x_sup = x_dev <= slack
+            x_on = x_dev <= exact and k == 0
+        phi[i] = _near(np.arctan2(xy - ay, xx - ax), 0.5 * (a_th + x_th))
+        joints[i, 0], joints[i, 1] = xx, xy
+        contact[i] = x_on
+        ax, ay, a_th, a_sup = xx, xy, x_th, x_sup
+        placed = i
+    return status, placed, phi_v
+
+
+@nb.njit(cache=True)
+def walk_many(
+    n,
+    ls,
+    pts,
+    off,
+    theta,
+    dev,
+    obj,
+    eps,
+    es,
+    spt,
+    th0,
+    bases,
+    app_th,
+    approach,
+    check,
+    n_laps,
+    max_search,
+    slack,
+    exact,
+    bridge_limit,
+    vidx,
+):
+    """``walk`` over a batch; per-wrap arrays have a leading batch axis."""
+    b = ls.shape[0]
+    joints = np.full((b, n + 1, 2), np.nan)
+    contact = np.zeros((b, n + 1), np.bool_)
+    lap = np.full((b, n + 1), -2, np.int64)
+    phi = np.full((b, n + 1), np.nan)
+    status = np.empty(b, np.int64)
+    placed = np.empty(b, np.int64)
+    phi_v = np.empty(b)
+    for q in range(b):
+        s, p, v = walk(
+            n,
+            ls[q],
+            pts,
+            off,
+            theta,
+            dev,
+            obj,
+            eps,
+            es[q],
+            spt[q],
+            th0[q],
+            bases[q],
+            app_th[q],
+            approach[q],
+            check,
+            n_laps,
+            max_search[q],
+            slack * ls[q],
+            exact,
+            bridge_limit,
+            vidx,
+            joints[q],
+            contact[q],
+            lap[q],
+            phi[q],
+        )
+        status[q], placed[q], phi_v[q] = s, p, v
+    return joints, contact, lap, phi, status, placed, phi_v

@@ -1,0 +1,55 @@
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from tentaclass.bench import confusion_figure, make_method, results_markdown, run_benchmark
+from tentaclass.cli.main import cli
+from tentaclass.datasets import reference_tentacle
+
+
+def test_run_benchmark_on_reference_shapes():
+    X, y = reference_tentacle(32, n_starts=10, return_X_y=True)
+    results = run_benchmark(X, y, ["thesis", "fourier-1nn", "1nn-euclidean"], n_splits=5)
+    acc = {r.method: r.accuracy for r in results}
+    assert acc["thesis"] == 1.0 and acc["fourier-1nn"] == 1.0
+    assert all(r.n_test == len(y) for r in results)
+    table = results_markdown(results, "t")
+    assert table.count("\n| ") == 4 and "100.0%" in table
+    fig = confusion_figure(results[0])
+    assert fig.get_axes()[0].get_title().startswith("thesis")
+
+
+def test_groups_keep_objects_apart_and_extra_wraps_only_train():
+    X, y = reference_tentacle(16, n_starts=12, return_X_y=True)
+    groups = np.arange(len(y)) // 3  # 3 arrays per object
+    is_eval = np.arange(len(y)) % 3 == 0
+    (r,) = run_benchmark(X, y, ["fourier-1nn"], groups=groups, is_eval=is_eval, n_splits=4)
+    assert r.n_test == is_eval.sum()
+
+
+def test_official_split_and_failing_method_is_reported():
+    X, y = reference_tentacle(16, n_starts=4, return_X_y=True)
+    split = np.where(np.arange(len(y)) % 2 == 0, "train", "test")
+    (r,) = run_benchmark(X, y, ["thesis"], split=split)
+    assert r.n_test == len(y) // 2 and r.accuracy == 1.0
+    with pytest.raises(ValueError, match="unknown method"):
+        run_benchmark(X, y, ["nope"])
+    with pytest.raises(ValueError, match="unknown method"):
+        make_method("nope")
+
+
+def test_bench_cli_smoke(tmp_path):
+    r = CliRunner().invoke(
+        cli,
+        ["bench", "--dataset", "reference", "--links", "16", "--samples", "40", "--folds", "3",
+         "--methods", "thesis,shift-nn,1nn-euclidean", "--out", str(tmp_path)],
+        catch_exceptions=False,
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "| thesis |" in r.output
+    assert (tmp_path / "reference.md").exists() and (tmp_path / "reference-confusion.png").exists()
+
+
+def test_bench_cli_bad_method():
+    r = CliRunner().invoke(cli, ["bench", "--methods", "thesis,bogus"])
+    assert r.exit_code == 2 and "bogus" in r.output

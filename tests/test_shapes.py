@@ -1,0 +1,143 @@
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from _wrap_helpers import MPEG7, needs_mpeg7
+from tentaclass import shapes
+from tentaclass.errors import InputError, ShapeError
+
+
+def _ccw_simple(p):
+    assert p.ndim == 2 and p.shape[1] == 2
+    assert shapes.signed_area(p) > 0
+    assert shapely.LinearRing(p).is_simple
+    assert not np.array_equal(p[0], p[-1])
+
+
+@pytest.mark.parametrize(
+    "outline, area",
+    [
+        (shapes.square(4), 16.0),
+        (shapes.rectangle(6, 2), 12.0),
+        (shapes.triangle([(0, 0), (3, 0), (0, 1)]), 1.5),
+        (shapes.triangle(side=2.0), np.sqrt(3)),
+        (shapes.regular_polygon(6, 1.0), 3 * np.sqrt(3) / 2),
+        (shapes.circle(2.0, n_points=4096), np.pi * 4),
+    ],
+)
+def test_primitives_are_ccw_with_the_right_area(outline, area):
+    _ccw_simple(outline)
+    assert shapes.signed_area(outline) == pytest.approx(area, rel=1e-5)
+
+
+def test_square_and_rectangle_start_at_a_corner():
+    assert shapes.square(4)[0].tolist() == [-2.0, -2.0]
+    assert shapes.rectangle(6, 2)[1].tolist() == [3.0, -1.0]
+    assert shapes.circle(3.0)[0].tolist() == [3.0, 0.0]
+
+
+def test_polygon_orients_and_drops_closing_point():
+    cw = [(0, 0), (0, 1), (1, 1), (1, 0), (0, 0)]
+    p = shapes.polygon(cw)
+    assert len(p) == 4
+    _ccw_simple(p)
+    assert shapes.polygon(p[::-1]).tolist() == p.tolist()
+
+
+@pytest.mark.parametrize(
+    "points, match",
+    [
+        ([(0, 0), (1, 0), (np.nan, 1)], "NaN"),
+        ([(0, 0), (1, 0), (1, 0), (0, 0)], "fewer than 3 distinct"),
+        ([(0, 0), (1, 1), (2, 2)], "zero area"),
+        ([(0, 0), (4, 0), (4, 4), (2, -1), (0, 4)], "intersects itself"),
+        ([(0, 0), (0, 0), (0, 0)], "fewer than 3 distinct"),
+    ],
+)
+def test_polygon_rejects_bad_outlines(points, match):
+    with pytest.raises(InputError, match=match):
+        shapes.polygon(points)
+
+
+def test_bad_arguments():
+    with pytest.raises(ShapeError):
+        shapes.polygon([1.0, 2.0, 3.0])
+    with pytest.raises(InputError):
+        shapes.square(0)
+    with pytest.raises(InputError):
+        shapes.circle(1.0, n_points=2)
+    with pytest.raises(InputError, match="3 distinct vertices"):
+        shapes.triangle([(0, 0), (1, 0), (1, 1), (0, 1)])
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(3, 40), st.integers(0, 2**31 - 1))
+def test_polygon_of_star_shaped_points_is_valid(n, seed):
+    rng = np.random.default_rng(seed)
+    a = np.sort(rng.uniform(0, 2 * np.pi, n))
+    a = a[np.r_[True, np.diff(a) > 1e-3]]
+    if len(a) < 3 or np.max(np.diff(np.r_[a, a[0] + 2 * np.pi])) >= np.pi:
+        return
+    r = rng.uniform(0.5, 2.0, len(a))
+    pts = np.stack([r * np.cos(a), r * np.sin(a)], axis=1)[::-1]  # clockwise in
+    p = shapes.polygon(pts)
+    _ccw_simple(p)
+    assert len(p) == len(a)
+
+
+def test_from_mask_rectangle_and_frame():
+    img = np.zeros((10, 12), bool)
+    img[2:5, 3:10] = True
+    out = shapes.from_mask(img)
+    _ccw_simple(out)
+    assert out[:, 0].min() == pytest.approx(2.5) and out[:, 0].max() == pytest.approx(9.5)
+    # rows 2..4 -> y = -2..-4, half-pixel boundary; the image y axis is flipped
+    assert out[:, 1].max() == pytest.approx(-1.5) and out[:, 1].min() == pytest.approx(-4.5)
+    assert shapes.signed_area(out) == pytest.approx(7 * 3 - 0.5, abs=0.6)
+
+
+def test_from_mask_largest_component_holes_and_border():
+    img = np.zeros((20, 20), np.uint8)
+    img[0:12, 0:12] = 255  # touches the border
+    img[4:8, 4:8] = 0  # a hole: ignored
+    img[15:17, 15:17] = 255  # a speck: ignored
+    out = shapes.from_mask(img)
+    assert out[:, 0].max() < 12 and out[:, 1].min() > -12
+    assert shapes.signed_area(out) == pytest.approx(144 - 0.5, abs=1.0)
+
+
+def test_from_mask_errors():
+    with pytest.raises(InputError, match="no foreground"):
+        shapes.from_mask(np.zeros((5, 5)))
+    with pytest.raises(ShapeError):
+        shapes.from_mask(np.ones(5))
+
+
+@needs_mpeg7
+def test_load_mpeg7(tmp_path):
+    outlines, labels, names = shapes.load_mpeg7(MPEG7, max_vertices=1000, cache=tmp_path)
+    assert len(outlines) == len(labels) == len(names) == 1400
+    classes, counts = np.unique(labels, return_counts=True)
+    assert len(classes) == 70 and set(counts) == {20}
+    assert {"Bone", "HCircle", "device9", "brick", "rat", "Glas"} <= set(classes)
+    assert labels[names.index("brick-01.png")] == "brick"
+    assert max(len(o) for o in outlines) <= 1000
+    for o in outlines[::50]:
+        _ccw_simple(o)
+    # inverted files come out as objects, not as the image frame
+    for name in ("rat-09.png", "Glas-12.png"):
+        o = outlines[names.index(name)]
+        area = shapes.signed_area(o)
+        assert 0 < area < 0.9 * np.prod(np.ptp(o, axis=0) + 1)
+    again, _, _ = shapes.load_mpeg7(MPEG7, max_vertices=1000, cache=tmp_path)
+    assert all(np.array_equal(a, b) for a, b in zip(outlines, again, strict=True))
+    assert list(tmp_path.glob("mpeg7-*.npz"))
+
+
+def test_load_mpeg7_missing_folder(tmp_path):
+    with pytest.raises(InputError, match="does not exist"):
+        shapes.load_mpeg7(tmp_path / "nope")
+    with pytest.raises(InputError, match=r"no \.png"):
+        shapes.load_mpeg7(tmp_path, cache=False)
