@@ -25,3 +25,9 @@ def test_bench_pnn_smoke(capsys):
     assert [r["dtype"] for r in rows] == ["float64", "float32"]
     assert all(r["pnn"] > 0 and r["knn"] > 0 and r["bare"] > 0 for r in rows)
     assert "1-NN / PNN" in capsys.readouterr().out
+
+
+def test_bench_recognition_quick(tmp_path, capsys):
+    load("bench_recognition").main(quick=True, out=tmp_path)
+    assert "| thesis |" in capsys.readouterr().out
+    assert (tmp_path / "quick.md").exists()

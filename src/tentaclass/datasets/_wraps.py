@@ -54,11 +54,22 @@ def _random_outline(cls: str, perimeter: float, rng: np.random.Generator) -> np.
     return p @ rot
 
 
-def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut"):
-    """wrap_many over rows with per-row direction; angles (b, n) and laps (b,)."""
+def _winding(joints: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """Turns the joints make around an interior point: continuous in the link length."""
+    d = joints - centre[:, None, :]
+    ang = np.unwrap(np.arctan2(d[..., 1], d[..., 0]), axis=1)
+    return np.abs(ang[:, -1] - ang[:, 0]) / (2 * np.pi)
+
+
+def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut", centres=None):
+    """wrap_many over rows with per-row direction.
+
+    Returns angles (b, n), laps (b,), winding (b,) around ``centres`` (NaN if
+    not given) and complete (b,).
+    """
     angles = np.empty((len(outlines), n_links))
     laps = np.empty(len(outlines))
-    lap_last = np.empty(len(outlines), np.int64)
+    winding = np.full(len(outlines), np.nan)
     complete = np.empty(len(outlines), bool)
     for flag, direction in ((False, "ccw"), (True, "cw")):
         rows = np.flatnonzero(cw == flag)
@@ -68,9 +79,10 @@ def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut"
                       direction=direction, offset=offsets[rows], mode=mode)  # fmt: skip
         angles[rows] = b.angles
         laps[rows] = b.laps
-        lap_last[rows] = b.lap[:, -1]
         complete[rows] = b.complete
-    return angles, laps, lap_last, complete
+        if centres is not None:
+            winding[rows] = _winding(np.nan_to_num(b.joints), centres[rows])
+    return angles, laps, winding, complete
 
 
 def synthetic_tentacle(
@@ -156,9 +168,18 @@ def _cache_path(key: dict) -> Path:
     return base / f"mpeg7-wraps-{digest}.npz"
 
 
-def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=30):
-    """Per wrap, the link length whose last joint lands on the start point (bisection)."""
+def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=22):
+    """Per wrap, the link length whose last joint lands on the start point (bisection).
+
+    The bisection watches how far the joints have wound around a point inside
+    the object, which grows steadily with the link length; the heading-based
+    ``laps`` of a wrap stands still along straight edges and jumps at corners.
+    """
     polys = [Polygon(o) for o in outlines]
+    centres = np.array([
+        (p.convex_hull.centroid if mode == "taut" else p.representative_point()).coords[0]
+        for p in polys
+    ])  # fmt: skip
     support = np.array([p.convex_hull.length if mode == "taut" else p.length for p in polys])
     diameter = np.array([np.ptp(o, axis=0).max() for o in outlines]) * 0.999
     lo = 0.5 * support / n_links  # chain of half the support: short of one lap
@@ -166,8 +187,10 @@ def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=30):
     zero = np.zeros(len(outlines))
     for _ in range(iterations):
         mid = 0.5 * (lo + hi)
-        _, laps, _, complete = _wrap_both_ways(outlines, n_links, mid, starts, zero, cw, mode)
-        over = (laps >= 1) | ~complete
+        _, _, wind, complete = _wrap_both_ways(
+            outlines, n_links, mid, starts, zero, cw, mode, centres
+        )
+        over = (wind >= 1) | ~complete
         hi = np.where(over, mid, hi)
         lo = np.where(over, lo, mid)
     return lo

@@ -1,0 +1,108 @@
+"""Recognition accuracy on real and synthetic shapes, ours against the peers.
+
+Run: ``.venv/bin/python benchmarks/bench_recognition.py [--quick]`` (needs the
+``bench`` extra for MiniRocket and the UCR sets, and ``../shared/data`` for
+MPEG-7). Writes one markdown table per setting to ``bench-results/`` and
+prints them. Every method sees the same arrays and the same folds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from tentaclass.bench import confusion_figure, results_markdown, run_benchmark
+from tentaclass.datasets import mpeg7_tentacle, synthetic_tentacle, ucr_shapes
+
+MPEG7 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "mpeg7-part-b"
+OURS = ["thesis", "fourier-1nn", "lap-fourier-1nn", "shift-nn"]
+PEERS = ["1nn-euclidean", "svc", "minirocket"]
+
+
+def _emit(results, title, out: Path, stem: str) -> str:
+    table = results_markdown(results, title)
+    print(table, flush=True)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"{stem}.md").write_text(table)
+    scored = [r for r in results if not r.error]
+    if scored:
+        best = max(scored, key=lambda r: r.accuracy)
+        confusion_figure(best).savefig(out / f"{stem}-confusion.png", dpi=90)
+    return table
+
+
+def synthetic(out: Path, n_samples: int = 2000, folds: int = 10) -> None:
+    """Four thesis classes, 16 links, noise 0.02; and partial wraps apart."""
+    methods = ["thesis", "lap-fourier-1nn", "lap-shift-nn", *PEERS]
+    d = synthetic_tentacle(n_samples, 16, noise=0.02, seed=0)
+    r = run_benchmark(d.data, d.target, methods, n_splits=folds)
+    _emit(r, "Synthetic four classes, 16 links, 1-2 laps, offset 0-3, noise 0.02", out,
+          "synthetic-16")  # fmt: skip
+    p = synthetic_tentacle(n_samples, 16, laps=(0.5, 1.0), noise=0.02, seed=1)
+    r = run_benchmark(p.data, p.target, methods, n_splits=folds)
+    _emit(
+        r, "Synthetic partial wraps (0.5-1 lap), 16 links, noise 0.02", out, "synthetic-16-partial"
+    )
+
+
+def mpeg7(out: Path, ns, modes, noises, folds: int = 10) -> None:
+    """MPEG-7 one-lap wraps; noisy settings train on 3 noisy wraps per shape."""
+    for mode in modes:
+        for n in ns:
+            for noise in noises:
+                copies = 3 if noise > 0 else 1
+                t0 = time.perf_counter()
+                d = mpeg7_tentacle(MPEG7, n, mode, noise=noise, copies=copies, seed=0)
+                gen = time.perf_counter() - t0
+                r = run_benchmark(d.data, d.target, OURS + PEERS, groups=d.groups,
+                                  is_eval=d.wrap_index == 0, n_splits=folds)  # fmt: skip
+                title = (f"MPEG-7, {n} links, {mode}, noise {noise:g}, {copies} wrap(s) per "
+                         f"training shape (data {gen:.0f} s)")  # fmt: skip
+                _emit(r, title, out, f"mpeg7-{mode}-{n}-noise{noise:g}")
+
+
+def ucr(out: Path) -> None:
+    """ArrowHead and OSULeaf with their official splits."""
+    for name in ("ArrowHead", "OSULeaf"):
+        d = ucr_shapes(name)
+        r = run_benchmark(d.data, d.target, ["shift-nn-raw", "1nn-euclidean", "svc", "minirocket"],
+                          split=d.split)  # fmt: skip
+        _emit(r, f"UCR {name}, official split", out, f"ucr-{name}")
+
+
+def main(quick: bool = False, out: Path = Path("bench-results")) -> None:
+    """Run the recognition benchmarks (``quick``: a small subset for a smoke run)."""
+    if quick:
+        d = synthetic_tentacle(120, 16, noise=0.02, seed=0)
+        r = run_benchmark(d.data, d.target, ["thesis", "lap-fourier-1nn", "1nn-euclidean"],
+                          n_splits=3)  # fmt: skip
+        _emit(r, "quick synthetic", out, "quick")
+        return
+    synthetic(out)
+    if MPEG7.is_dir():
+        mpeg7(out, (16, 32, 64, 128), ("taut", "hug"), (0.0, 0.05))
+    else:
+        print(f"MPEG-7 data not found at {MPEG7}: skipped", file=sys.stderr)
+    ucr(out)
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--only", choices=["synthetic", "mpeg7", "ucr"])
+    parser.add_argument("--links", default="16,32,64,128")
+    parser.add_argument("--modes", default="taut,hug")
+    parser.add_argument("--noises", default="0,0.05")
+    parser.add_argument("--out", type=Path, default=Path("bench-results"))
+    a = parser.parse_args()
+    if a.only == "mpeg7":
+        mpeg7(a.out, [int(x) for x in a.links.split(",")], a.modes.split(","),
+              [float(x) for x in a.noises.split(",")])  # fmt: skip
+    elif a.only == "synthetic":
+        synthetic(a.out)
+    elif a.only == "ucr":
+        ucr(a.out)
+    else:
+        main(a.quick, a.out)

@@ -1,0 +1,11 @@
+"""The user guide's examples run."""
+
+import doctest
+from pathlib import Path
+
+GUIDE = Path(__file__).resolve().parents[1] / "docs" / "recognition.md"
+
+
+def test_recognition_guide_examples():
+    result = doctest.testfile(str(GUIDE), module_relative=False, optionflags=doctest.ELLIPSIS)
+    assert result.attempted > 0 and result.failed == 0
