@@ -116,10 +116,13 @@ def test_demo_runs_and_writes_figures(tmp_path):
     for label in ("SQUARE", "CIRCLE", "TRIANGLE", "RECTANGLE"):
         assert label in r.output
     assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "capture_error.png",
+        "grasp_spectra.png",
         "thesis_circle.png",
         "thesis_rectangle.png",
         "thesis_square.png",
         "thesis_triangle.png",
+        "wraps.png",
     ]
 
 

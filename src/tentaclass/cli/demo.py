@@ -31,6 +31,63 @@ def perturbed_variants(
     }
 
 
+def write_wrap_figures(out: Path) -> list[Path]:
+    """Figures of the physical side: wraps, grasping spectra, sampling rule."""
+    from matplotlib.figure import Figure
+
+    from .. import shapes
+    from ..plotting_wrap import plot_capture_error, plot_grasp_spectra, plot_wrap
+    from ..sampling import capture_error
+    from ..wrapping import wrap
+
+    paths = []
+    sq = shapes.square(4.0)
+    angles = np.linspace(0, 2 * np.pi, 10, endpoint=False)
+    radii = np.where(np.arange(10) % 2 == 0, 1.0, 0.45)
+    star = shapes.polygon(np.stack([radii * np.cos(angles), radii * np.sin(angles)], axis=1))
+    fig = Figure(figsize=(11, 4), layout="constrained")
+    ax = fig.subplots(1, 3)
+    plot_wrap(wrap(sq, 16, 1.0), sq, ax=ax[0])
+    ax[0].set_title("square 4 x 4, 16 links of 1: the thesis's array")
+    plot_wrap(wrap(sq, 16, 1.3, start=0.1, offset=2.0), sq, ax=ax[1])
+    ax[1].set_title("offset 2, 16 links of 1.3: 1.3 laps")
+    plot_wrap(wrap(star, 40, 0.12, mode="hug"), star, ax=ax[2])
+    ax[2].set_title("star, 40 links, mode='hug'")
+    paths.append(out / "wraps.png")
+    fig.savefig(paths[-1], dpi=90)
+
+    fig = Figure(figsize=(8, 4), layout="constrained")
+    ax = fig.subplots()
+    plot_grasp_spectra(
+        {
+            "partial (0.6 lap)": wrap(sq, 64, 0.15).angles,
+            "once": wrap(sq, 64, 0.25).angles,
+            "twice": wrap(sq, 64, 0.5).angles,
+        },
+        ax=ax,
+    )
+    ax.set_title("grasping spectra of a square, 64 links")
+    paths.append(out / "grasp_spectra.png")
+    fig.savefig(paths[-1], dpi=90)
+
+    ls = np.unique(np.concatenate([np.linspace(0.05, 1.4, 40), [0.125, 0.25, 0.5, 1.0]]))
+    curves = {
+        "circle, l / r": (ls, [capture_error(shapes.circle(1.0, 360), x) for x in ls]),
+        "square, l / a": (ls, [capture_error(shapes.square(1.0), x) for x in ls]),
+        "star (hug), l / outer radius": (
+            ls[ls <= 0.9],
+            [capture_error(star, x, mode="hug") for x in ls[ls <= 0.9]],
+        ),
+    }
+    fig = Figure(figsize=(8, 4), layout="constrained")
+    ax = fig.subplots()
+    plot_capture_error(curves, ax=ax, marks={"a/4": [0.25], "a/2": [0.5], "l = r, a": [1.0]})
+    ax.set_title("what a chain of links captures (thesis 4.5)")
+    paths.append(out / "capture_error.png")
+    fig.savefig(paths[-1], dpi=90)
+    return paths
+
+
 @click.command()
 @click.option(
     "--out",
@@ -76,4 +133,6 @@ def demo(out: Path, noise: float, seed: int, no_figures: bool) -> None:
             fig = plot_thesis_panel(q, title=f"{name.upper()} (16 links)")
             path = out / f"thesis_{name}.png"
             fig.savefig(path, dpi=100)
+            console.print(f"wrote {path}")
+        for path in write_wrap_figures(out):
             console.print(f"wrote {path}")
