@@ -17,7 +17,7 @@ from tentaclass.bench import confusion_figure, results_markdown, run_benchmark
 from tentaclass.datasets import mpeg7_tentacle, synthetic_tentacle, ucr_shapes
 
 MPEG7 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "mpeg7-part-b"
-OURS = ["thesis", "fourier-1nn", "lap-fourier-1nn", "shift-nn"]
+OURS = ["thesis", "fourier-1nn", "fourier-pnn", "lap-fourier-lp-1nn", "shift-nn"]
 PEERS = ["1nn-euclidean", "svc", "minirocket"]
 
 

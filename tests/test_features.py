@@ -145,3 +145,13 @@ def test_transformer_weight_power(rng):
     np.testing.assert_allclose(weighted, plain * np.sqrt(np.arange(1, 9)))
     with pytest.raises(ValueError, match="weight_power"):
         FourierFeatures(weight_power=np.nan).fit(X)
+
+
+def test_transformer_fractional_n_coeffs(rng):
+    X = rng.normal(size=(3, 64))
+    t = FourierFeatures(n_coeffs=0.5).fit(X)
+    assert t.n_coeffs_ == 16 and t.n_coeffs == 0.5
+    np.testing.assert_allclose(t.transform(X), fourier_features(X, 16))
+    assert FourierFeatures(n_coeffs=0.01).fit(X).n_coeffs_ == 1
+    with pytest.raises(ValueError, match="fractional"):
+        FourierFeatures(n_coeffs=1.5).fit(X)

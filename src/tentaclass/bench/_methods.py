@@ -110,6 +110,14 @@ METHODS: dict[str, Method] = {
             True,
         ),
         Method(
+            "lap-fourier-lp-1nn",
+            lambda: make_pipeline(
+                LastLap(), TentacleClassifier(n_coeffs=0.5, classifier=KNeighborsClassifier(1))
+            ),
+            "last full lap + lowest half of the |DFT| coefficients (2 pi ramp) + 1-NN",
+            True,
+        ),
+        Method(
             "shift-nn-raw",
             lambda: ShiftNNClassifier(signal="raw"),
             "1-NN on the arrays as periodic signals, best cyclic shift and mirror (FFT)",

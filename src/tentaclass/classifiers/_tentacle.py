@@ -24,8 +24,9 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
 
     Parameters
     ----------
-    n_coeffs : int, optional
-        Fourier coefficients kept; default ``floor(n_joints / 2)``.
+    n_coeffs : int or float, optional
+        Fourier coefficients kept; default ``floor(n_joints / 2)``; a float in
+        (0, 1) keeps that fraction of them.
     detrend : bool, default=False
         Ramp through the measured total turn (robust to joint noise).
     normalize : bool, default=False
