@@ -36,6 +36,7 @@ def test_mpeg7_wraps_on_a_few_files(mpeg7_folder, tmp_path):
     assert d.data.shape == (8, 32)
     assert d.target.tolist()[:4] == ["apple", "apple", "Bone", "device3"]
     assert d.wrap_index.tolist() == [0] * 4 + [1] * 4
+    assert d.complete.all()  # taut chains never jam
     np.testing.assert_allclose(np.abs(d.data.sum(axis=1)), 2 * np.pi, atol=0.5)
     again = mpeg7_tentacle(tmp_path, 32, copies=2, seed=0, cache=False)
     np.testing.assert_array_equal(d.data, again.data)

@@ -32,7 +32,9 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
     if dataset == "mpeg7":
         folder = data_dir or Path("../shared/data/mpeg7-part-b")
         d = datasets.mpeg7_tentacle(folder, links, mode=mode, noise=noise, copies=copies, seed=seed)
-        kw = {"X": d.data, "y": d.target, "groups": d.groups, "is_eval": d.wrap_index == 0}
+        keep = ~np.isin(d.groups, d.groups[~d.complete])  # drop shapes a chain jammed on
+        kw = {"X": d.data[keep], "y": d.target[keep], "groups": d.groups[keep],
+              "is_eval": d.wrap_index[keep] == 0}  # fmt: skip
         return (
             kw,
             f"MPEG-7 wraps, {links} links, {mode}, noise {noise:g}, {copies} wrap(s) per shape",

@@ -235,7 +235,10 @@ def mpeg7_tentacle(
     -------
     data : Bunch
         ``data`` (1400 * copies, n_links), ``target`` class names, ``groups``
-        the silhouette's index, ``wrap_index`` the copy number, ``names`` file names.
+        the silhouette's index, ``wrap_index`` the copy number, ``names`` file names,
+        ``complete`` False where the chain jammed before placing every link
+        (possible in ``"hug"`` mode; those rows are NaN - drop them, or drop
+        their silhouettes with ``groups``).
     """
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
@@ -256,7 +259,8 @@ def mpeg7_tentacle(
         starts = rng.uniform(0, 1, m)
         cw = rng.random(m) < 0.5
         lengths = _one_lap_lengths(rows, n_links, starts, cw, mode)
-        angles, _, _, _ = _wrap_both_ways(rows, n_links, lengths, starts, np.zeros(m), cw, mode)
+        angles, _, _, done = _wrap_both_ways(rows, n_links, lengths, starts, np.zeros(m), cw, mode)
+        angles[~done] = np.nan  # the chain jammed (hug mode): no full array
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             np.savez(path, angles=angles)
@@ -264,7 +268,9 @@ def mpeg7_tentacle(
     if noise > 0:
         angles = angles + rng.normal(0.0, noise, angles.shape)
     n_shapes = len(outlines)
+    complete = np.all(np.isfinite(angles), axis=1)
     return Bunch(
+        complete=complete,
         data=angles,
         target=np.tile(labels, copies),
         groups=np.tile(np.arange(n_shapes), copies),
