@@ -33,3 +33,19 @@ def test_reference_tentacle_closed_laps(n):
     X, _ = reference_tentacle(n, n_starts=3, return_X_y=True)
     assert X.shape == (12, n)
     np.testing.assert_allclose(X.sum(axis=1), 2 * np.pi)
+
+
+def test_ucr_shapes_official_split():
+    pytest.importorskip("aeon", reason="ucr_shapes needs the bench extra (aeon)")
+    from tentaclass.datasets import ucr_shapes
+
+    d = ucr_shapes("ArrowHead")
+    assert d.data.shape == (211, 251)
+    assert (d.split == "train").sum() == 36 and set(d.target) == {"0", "1", "2"}
+
+
+def test_ucr_shapes_unknown_name():
+    from tentaclass.datasets import ucr_shapes
+
+    with pytest.raises(ValueError, match="unknown UCR"):
+        ucr_shapes("GunPoint")
