@@ -4,7 +4,7 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test lint bench clean venv
+.PHONY: demo test lint bench bench-recognition clean venv
 
 venv: $(STAMP)
 
@@ -27,7 +27,12 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
-	$(BIN)/python benchmarks/run_all.py
+	$(BIN)/python benchmarks/run_all.py bench_fourier bench_dynamics bench_pnn bench_scanner bench_wrap
+
+# about an hour: every MPEG-7 setting against MiniRocket (needs ../shared/data)
+bench-recognition: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
+	$(BIN)/python benchmarks/bench_recognition.py
 
 clean:
 	rm -rf $(VENV) out bench-results .pytest_cache
