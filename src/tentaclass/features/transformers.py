@@ -90,9 +90,7 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
         k = n // 2 if self.n_coeffs is None else self.n_coeffs
         if isinstance(k, float):
             if not 0 < k < 1:
-                raise InputError(
-                    f"a fractional n_coeffs must lie in (0, 1), got {self.n_coeffs}"
-                )
+                raise InputError(f"a fractional n_coeffs must lie in (0, 1), got {self.n_coeffs}")
             k = max(1, round(k * (n // 2)))
         if not 1 <= k <= n // 2:
             raise InputError(
