@@ -53,3 +53,43 @@ def test_bench_cli_smoke(tmp_path):
 def test_bench_cli_bad_method():
     r = CliRunner().invoke(cli, ["bench", "--methods", "thesis,bogus"])
     assert r.exit_code == 2 and "bogus" in r.output
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--methods", ""], "no method given"),  # ran and wrote an empty table
+        (["--methods", ",,"], "no method given"),
+        (["--noise", "nan"], "finite"),  # was "X contains 128 NaN or infinite value(s)"
+        (["--noise", "inf"], "finite"),
+        (["--seed", "-1"], "--seed"),  # was "expected non-negative integer"
+    ],
+)
+def test_bench_cli_bad_options(tmp_path, args, message):
+    r = CliRunner().invoke(cli, ["bench", "--out", str(tmp_path / "out"), *args])
+    assert r.exit_code == 2 and message in r.output
+    assert "Traceback" not in r.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_bench_cli_mpeg7_missing_folder(tmp_path):
+    r = CliRunner().invoke(
+        cli, ["bench", "--dataset", "mpeg7", "--data-dir", str(tmp_path / "none"),
+              "--methods", "thesis", "--out", str(tmp_path / "out")]
+    )  # fmt: skip
+    assert r.exit_code == 1 and "does not exist" in r.output
+    assert len(r.output.strip().splitlines()) == 1
+
+
+def test_bench_cli_ucr_without_aeon_names_the_data_set(tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "aeon", None)  # import aeon -> ImportError
+    monkeypatch.setitem(sys.modules, "aeon.datasets", None)
+    r = CliRunner().invoke(
+        cli, ["bench", "--dataset", "ArrowHead", "--methods", "thesis",
+              "--out", str(tmp_path / "out")]
+    )  # fmt: skip
+    assert r.exit_code == 1
+    assert "'ArrowHead' needs aeon" in r.output and "pip install" in r.output
+    assert len(r.output.strip().splitlines()) == 1

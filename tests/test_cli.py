@@ -87,6 +87,9 @@ def test_classify_any_chain_length():
         (["classify", "0 0"], "at least 3"),
         (["classify"], "either ANGLES or --file"),
         (["classify", "--file", "missing.csv"], "does not exist"),
+        (["demo", "--noise", "nan", "--no-figures"], "finite"),  # was "Input X contains NaN"
+        (["demo", "--noise", "inf", "--no-figures"], "finite"),
+        (["demo", "--seed", "-1", "--no-figures"], "--seed"),  # was "expected non-negative"
     ],
 )
 def test_classify_bad_input_one_line_error(args, message):
@@ -103,7 +106,14 @@ def test_classify_bad_files(tmp_path):
     bad.write_bytes(b"not numpy")
     nan = tmp_path / "n.npy"
     np.save(nan, np.array([[0, np.nan, 1.0]]))
-    for path, message in ((ragged, "different numbers"), (bad, "not a readable"), (nan, "NaN")):
+    cplx = tmp_path / "c.npy"
+    np.save(cplx, np.array([[1j, 0, 0, 1.0]]))  # the imaginary part was silently dropped
+    for path, message in (
+        (ragged, "different numbers"),
+        (bad, "not a readable"),
+        (nan, "NaN"),
+        (cplx, "real numbers"),
+    ):
         r = run("classify", "--file", str(path))
         assert r.exit_code == 1, r.output
         assert message in r.output
@@ -137,3 +147,24 @@ def test_python_dash_m_entry_point():
         check=True,
     )
     assert json.loads(out.stdout)[0]["label"] == "square"
+
+
+def test_garbage_npy_is_not_called_pickled(tmp_path):
+    bad = tmp_path / "b.npy"
+    bad.write_bytes(b"abc")  # numpy's own message claimed "pickled (object) data"
+    r = run("classify", "--file", str(bad))
+    assert r.exit_code == 1
+    assert "no .npy header" in r.output and "pickle" not in r.output
+
+
+def test_out_of_memory_is_one_line_error(monkeypatch):
+    import tentaclass.datasets
+
+    def boom(*args, **kwargs):
+        raise MemoryError("Unable to allocate 262. GiB")
+
+    monkeypatch.setattr(tentaclass.datasets, "synthetic_tentacle", boom)
+    r = CliRunner().invoke(cli, ["bench", "--dataset", "synthetic", "--methods", "thesis"])
+    assert r.exit_code == 1
+    assert "out of memory: Unable to allocate 262. GiB" in r.output
+    assert "Traceback" not in r.output and len(r.output.strip().splitlines()) == 1

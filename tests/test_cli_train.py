@@ -215,3 +215,12 @@ def test_too_many_coefficients_is_one_line_error(tmp_path, npz):
 def test_train_requires_data_and_out(tmp_path):
     r = run("train", "--out", tmp_path / "m.tcm")
     assert r.exit_code == 2 and "--data" in r.output
+
+
+@pytest.mark.parametrize("classifier", ["pnn", "rbf"])
+def test_tiny_spread_is_one_line_error(tmp_path, npz, classifier):
+    # (b / spread) ** 2 raised OverflowError with a traceback
+    r = run("train", "--data", npz, "--out", tmp_path / "m.tcm", "--classifier", classifier,
+            "--spread", "1e-300")  # fmt: skip
+    one_line_error(r, "too small")
+    assert not (tmp_path / "m.tcm").exists()

@@ -60,6 +60,15 @@ def test_mask_and_plot(tmp_path):
         (["--links", "0"], "links"),
         (["--link-length", "1", "--laps", "2"], "not both"),
         (["--shape", "rectangle", "--size", "-1,2"], "width"),
+        (["--shape", "rectangle", "--size", "4,5,6"], "'W' or 'W,H'"),  # 6 was ignored
+        (["--size", ""], "empty"),  # fell back to the default size
+        (["--size", "1e300"], "too large"),  # was "collinear"
+        (["--link-length", "-1"], "must be >= 0"),  # was "must lie in >= 0"
+        (["--laps", "inf"], "finite"),  # silently wrapped 7.9 laps
+        (["--laps", "nan"], "finite"),  # was "cannot convert float NaN to integer"
+        (["--laps", "9"], "cannot close 9 laps"),  # 16 links: silently 7.9 laps
+        (["--noise", "0.1", "--seed", "-1"], "--seed"),
+        (["--shape", "polygon", "--vertices", "0,0 1,1 1,0 0,1"], "intersects itself"),
     ],
 )
 def test_bad_input_is_one_line(args, message):
@@ -68,3 +77,12 @@ def test_bad_input_is_one_line(args, message):
     assert message in r.output
     assert "Traceback" not in r.output
     assert r.exception is None or isinstance(r.exception, SystemExit)
+
+
+def test_laps_needing_too_much_memory_is_one_line_error():
+    from tentaclass.cli.main import cli
+
+    r = CliRunner().invoke(cli, ["wrap", "--laps", "1e-9"])  # 1.6e10 links per lap
+    assert r.exit_code == 1
+    assert "out of memory" in r.output
+    assert "Traceback" not in r.output and len(r.output.strip().splitlines()) == 1

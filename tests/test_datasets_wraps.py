@@ -29,6 +29,25 @@ def test_synthetic_bad_noise():
         synthetic_tentacle(4, noise=(0.05, 0.01))
 
 
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"laps": (np.nan, 1.0)}, "laps"),  # was OverflowError from numpy
+        ({"laps": (2.0, 1.0)}, "low <= high"),
+        ({"laps": (0.0, 0.0)}, "laps"),
+        ({"laps": (-1.0, 1.0)}, "laps"),  # was silently accepted
+        ({"laps": 1.0}, "pair"),  # was TypeError
+        ({"laps": (1.0, 2.0, 3.0)}, "pair"),
+        ({"offset_links": (-3.0, 0.0)}, "offset_links"),
+        ({"seed": "x"}, "seed"),  # was TypeError
+        ({"seed": -1}, "seed"),
+    ],
+)
+def test_synthetic_bad_ranges_and_seed(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        synthetic_tentacle(4, **kwargs)
+
+
 def test_mpeg7_wraps_on_a_few_files(mpeg7_folder, tmp_path):
     for name in ("apple-1.png", "apple-2.png", "Bone-1.png", "device3-1.png"):
         shutil.copy(mpeg7_folder / name, tmp_path / name)

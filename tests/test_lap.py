@@ -42,3 +42,16 @@ def test_bad_input():
         last_lap([0.1, 0.2])
     with pytest.raises(ValueError, match="n_out"):
         last_lap(SQUARE, n_out=2)
+    with pytest.raises(ValueError, match="complex"):  # imaginary part was dropped
+        last_lap(np.array([1j, 1.0, 1.0, 1.0]))
+
+
+def test_degenerate_closure_falls_back_to_the_open_chain(monkeypatch):
+    import tentaclass.features.lap as lap_module
+
+    # a "closure" whose lap has only two distinct joints (p4 twice, then p5)
+    monkeypatch.setattr(lap_module, "_closure", lambda points, t: (3, 1.0))
+    q = np.array([0.0, 0.0, 0.0, 0.0, np.pi, 0.0])
+    lap, closed = last_lap(q, n_out=8)
+    assert not closed
+    assert lap.shape == (8,) and np.all(np.isfinite(lap))

@@ -205,6 +205,7 @@ def test_labels_of_any_type_round_trip():
         ({"spread": "big"}, "spread"),
         ({"dtype": "float16"}, "dtype"),
         ({"dtype": "complex"}, "dtype"),
+        ({"spread": 1e-300}, "too small"),  # (b / spread) ** 2 overflowed
     ],
 )
 def test_bad_parameters(params, match):

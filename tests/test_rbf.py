@@ -154,6 +154,7 @@ def test_thesis_shapes_in_tentacle_classifier():
         ({"spread": "wide"}, "spread"),
         ({"alpha": -1.0}, "alpha"),
         ({"goal": np.inf}, "goal"),
+        ({"spread": 1e-300}, "too small"),  # (b / spread) ** 2 overflowed
     ],
 )
 def test_bad_parameters(params, match):

@@ -44,3 +44,6 @@ def test_turning_signal_recognises_thesis_shapes_any_start_and_direction():
 def test_bad_signal_option():
     with pytest.raises(ValueError, match="signal"):
         ShiftNNClassifier(signal="dct").fit(np.zeros((2, 8)), [0, 1])
+    for kw in ({"mirror": "no"}, {"center": None}):  # were read as truthy / falsy
+        with pytest.raises(ValueError, match=next(iter(kw))):
+            ShiftNNClassifier(**kw).fit(np.zeros((2, 8)), [0, 1])

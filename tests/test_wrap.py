@@ -239,6 +239,8 @@ def test_partial_wrap_flag_when_no_next_joint():
         ({"mode": "loose"}, "mode"),
         ({"noise": -1.0}, "noise"),
         ({"offset": -1.0}, "offset"),
+        ({"offset": -1.0}, "must be >= 0"),  # was "must lie in >= 0"
+        ({"noise": 0.1, "seed": "x"}, "seed"),  # was TypeError
     ],
 )
 def test_bad_input(kwargs, match):

@@ -19,7 +19,11 @@ def as_float_array(
 ) -> FloatArray:
     """Convert ``x`` to a float64 array and check its rank and values."""
     try:
+        if np.iscomplexobj(x):
+            raise InputError(f"{name} must hold real numbers, got complex values")
         arr = np.asarray(x, dtype=np.float64)
+    except InputError:
+        raise
     except (TypeError, ValueError) as exc:
         raise InputError(
             f"{name} must be an array of numbers; could not convert it: {exc}"

@@ -74,6 +74,9 @@ def test_bad_value_keeps_objects_already_written():
         (["-", "--width", "5"], b"\x00\x01\x00", "truncated stream"),
         (["-"], "0101\n011\n", "has 3 pixels, expected 4"),
         (["/nonexistent/belt.txt"], None, "cannot open"),
+        (["-", "--format", "png"], "0101\n", "not an image Pillow can identify"),  # was a repr
+        (["-"], b"P5\n4 2\n255\nabcdefgh", "unsupported Netpbm image P5"),  # was "'P'"
+        (["-", "--width", "4"], "0110\n", "use --format text"),  # text read as raw bytes
     ],
 )
 def test_bad_input_one_line_error(args, data, message):
@@ -164,3 +167,18 @@ def test_annotate_raw_input_and_unwritable_figure(tmp_path):
     assert bad.exit_code == 1
     assert len(_lines(bad)) == 2  # the objects were written before the figure failed
     assert bad.stderr.startswith("Error: cannot write")
+
+
+def test_pbm_header_too_large_for_memory_is_one_line_error():
+    from tentaclass.cli.main import cli
+
+    header = b"P4\n99999999999 99999999999\n"  # was a MemoryError traceback
+    result = CliRunner().invoke(cli, ["scan", "-"], input=header)
+    assert result.exit_code == 1
+    assert "out of memory" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_negative_seed_is_usage_error():
+    result = CliRunner().invoke(scan, ["--simulate", "3", "--seed", "-1"])
+    assert result.exit_code == 2 and "--seed" in result.stderr

@@ -47,6 +47,9 @@ __all__ = ["MAX_BLOCK_BYTES", "NEWPNN_BIAS", "PNNClassifier"]
 #: ``b * spread`` for MATLAB's newpnn: a pattern at distance ``spread`` scores 0.5.
 NEWPNN_BIAS = float(np.sqrt(-np.log(0.5)))
 
+#: Smallest spread accepted: below it the kernel width ``(b / spread) ** 2`` overflows.
+MIN_SPREAD = 1e-150
+
 #: Upper bound, in bytes, on the kernel values held in memory at once, summed
 #: over all worker threads (256 MiB). Tiles are normally far smaller (see
 #: ``_TILE_BYTES``); this cap only binds on machines with very many threads.
@@ -260,6 +263,8 @@ class PNNClassifier(BaseProbabilisticClassifier):
             isinstance(s, bool) or not isinstance(s, numbers.Real) or not (np.isfinite(s) and s > 0)
         ):
             raise InputError(f"spread must be 'auto' or a finite number > 0, got {s!r}")
+        if not isinstance(s, str) and s < MIN_SPREAD:
+            raise InputError(f"spread {s!r} is too small: it must be at least {MIN_SPREAD:g}")
         r = self.reject_below
         if r is not None and (
             isinstance(r, bool) or not isinstance(r, numbers.Real) or not 0 <= r <= 1

@@ -13,7 +13,7 @@ from sklearn.utils.validation import validate_data
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
 from ._base import BaseProbabilisticClassifier
-from ._pnn import NEWPNN_BIAS, _sq_dist
+from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _sq_dist
 
 __all__ = ["RBFNetworkClassifier"]
 
@@ -237,6 +237,8 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
             isinstance(s, bool) or not isinstance(s, numbers.Real) or not (np.isfinite(s) and s > 0)
         ):
             raise InputError(f"spread must be 'auto' or a finite number > 0, got {s!r}")
+        if not isinstance(s, str) and s < MIN_SPREAD:
+            raise InputError(f"spread {s!r} is too small: it must be at least {MIN_SPREAD:g}")
         for name in ("alpha", "goal"):
             v = getattr(self, name)
             if (

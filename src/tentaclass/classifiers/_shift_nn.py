@@ -82,6 +82,9 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         """
         if self.signal not in ("turning", "raw"):
             raise InputError(f"signal must be 'turning' or 'raw', got {self.signal!r}")
+        for name in ("mirror", "center"):
+            if not isinstance(getattr(self, name), bool | np.bool_):
+                raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         X, y = validate_data(self, X, y, dtype=np.float64)
         if self.signal == "turning" and X.shape[1] < 3:
             raise InputError(f"signal='turning' needs at least 3 joint angles, got {X.shape[1]}")

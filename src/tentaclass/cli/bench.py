@@ -8,6 +8,7 @@ import click
 import numpy as np
 
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
+from .options import finite
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "thesis,fourier-1nn,fourier-pnn,shift-nn,1nn-euclidean,svc,minirocket"
@@ -48,7 +49,7 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
 @click.option("--links", type=click.IntRange(min=3), default=64, show_default=True)
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
-              help="Joint-angle noise sigma in radians.")  # fmt: skip
+              callback=finite, help="Joint-angle noise sigma in radians.")  # fmt: skip
 @click.option("--copies", type=click.IntRange(min=1), default=1, show_default=True,
               help="MPEG-7: wraps per shape; extra ones only train.")  # fmt: skip
 @click.option("--samples", type=click.IntRange(min=8), default=400, show_default=True,
@@ -60,13 +61,15 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
               help="MPEG-7 folder (default ../shared/data/mpeg7-part-b).")  # fmt: skip
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path),
               default=Path("bench-results"), show_default=True)  # fmt: skip
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, seed):
     """Stratified k-fold accuracy (or the official split), fit and predict time.
 
     Writes a markdown table and the best method's confusion matrix to OUT.
     """
     names = [m.strip() for m in methods.split(",") if m.strip()]
+    if not names:
+        raise click.BadParameter("no method given", param_hint="--methods")
     unknown = [m for m in names if m not in METHODS]
     if unknown:
         raise click.BadParameter(f"unknown {unknown}; choose from {', '.join(METHODS)}",

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..classifiers import TentacleClassifier
 from ..datasets import thesis_tentacle
+from .options import finite
 
 
 def perturbed_variants(
@@ -96,8 +97,10 @@ def write_wrap_figures(out: Path) -> list[Path]:
     show_default=True,
     help="Folder for the figures.",
 )
-@click.option("--noise", type=click.FloatRange(min=0), default=0.02, show_default=True)
-@click.option("--seed", type=int, default=0, show_default=True)
+@click.option(
+    "--noise", type=click.FloatRange(min=0), default=0.02, show_default=True, callback=finite
+)
+@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--no-figures", is_flag=True, help="Skip writing figures.")
 def demo(out: Path, noise: float, seed: int, no_figures: bool) -> None:
     """Train on the thesis's four shapes and classify perturbed variants.

@@ -25,6 +25,11 @@ class _Group(click.Group):
             raise click.ClickException(
                 str(exc).splitlines()[0] if str(exc) else repr(exc)
             ) from None
+        except MemoryError as exc:
+            detail = f": {str(exc).splitlines()[0]}" if str(exc) else ""
+            raise click.ClickException(
+                f"out of memory{detail} (check sizes and counts given as options or in the input)"
+            ) from None
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

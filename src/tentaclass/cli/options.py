@@ -60,13 +60,21 @@ def parse_angle_list(text: str) -> np.ndarray:
 def read_angle_file(path: Path) -> np.ndarray:
     """Arrays of joint angles from a ``.npy`` file or a text/CSV file, one per row."""
     if path.suffix.lower() == ".npy":
+        with open(path, "rb") as fh:
+            magic = fh.read(6)
+        if magic != b"\x93NUMPY":
+            raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
         try:
             arr = np.load(path, allow_pickle=False)
         except (ValueError, OSError) as exc:
             raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
-        if arr.ndim not in (1, 2) or not np.issubdtype(arr.dtype, np.number):
+        if (
+            arr.ndim not in (1, 2)
+            or not np.issubdtype(arr.dtype, np.number)
+            or np.iscomplexobj(arr)
+        ):
             raise ValueError(
-                f"{path}: expected a 1-D or 2-D numeric array, got {arr.dtype} {arr.shape}"
+                f"{path}: expected a 1-D or 2-D array of real numbers, got {arr.dtype} {arr.shape}"
             )
         return np.atleast_2d(arr.astype(np.float64))
     rows = []
@@ -102,3 +110,10 @@ class AngleList(click.ParamType):
             return parse_angle_list(value)
         except ValueError as exc:
             self.fail(str(exc), param, ctx)
+
+
+def finite(ctx, param, value):
+    """Click callback: refuse NaN and infinity for a float option."""
+    if value is not None and not np.isfinite(value):
+        raise click.BadParameter(f"must be a finite number, got {value}")
+    return value

@@ -126,7 +126,9 @@ def _emit(objects: list, stats: Counter, out: list | None) -> None:
     metavar="N",
     help="Scan a generated belt of N random objects (some damaged) instead of FILE.",
 )
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed for --simulate.")
+@click.option(
+    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for --simulate."
+)
 @click.option(
     "--write-belt",
     type=click.Path(dir_okay=False, path_type=Path),

@@ -9,6 +9,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
+from .options import finite
 
 
 def _numbers(text: str | None, name: str) -> list[float] | None:
@@ -37,7 +38,11 @@ def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Pa
     if shape == "polygon":
         raise click.UsageError("--shape polygon needs --vertices 'x,y x,y x,y ...'")
     dims = _numbers(size, "--size") or [4.0]
+    if size is not None and not _numbers(size, "--size"):
+        raise click.BadParameter("is empty", param_hint="--size")
     if shape == "rectangle":
+        if len(dims) > 2:
+            raise click.BadParameter("a rectangle takes 'W' or 'W,H'", param_hint="--size")
         w, h = (dims * 2)[:2] if len(dims) == 1 else dims[:2]
         return shapes.rectangle(w, h if len(dims) > 1 else w / 3)
     if len(dims) != 1:
@@ -75,6 +80,7 @@ def _length_for_laps(outline, links, laps, **kw) -> float:
 @click.option(
     "--laps",
     type=click.FloatRange(min=0, min_open=True),
+    callback=finite,
     help="Choose the link length so the chain turns this many laps.",
 )
 @click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
@@ -91,7 +97,7 @@ def _length_for_laps(outline, links, laps, **kw) -> float:
 @click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True)
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
               help="Joint noise standard deviation (radians).")  # fmt: skip
-@click.option("--seed", type=int, help="Seed for the noise.")
+@click.option("--seed", type=click.IntRange(min=0), help="Seed for the noise.")
 @click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
@@ -112,6 +118,12 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
         if laps is not None:
             if link_length is not None:
                 raise click.UsageError("give either --link-length or --laps, not both")
+            if links / laps < 2:
+                raise click.BadParameter(
+                    f"{links} links cannot close {laps:g} laps (at most {links / 2:g}: "
+                    "2 links per lap)",
+                    param_hint="--laps",
+                )
             link_length = _length_for_laps(outline, links, laps, **kw)
         elif link_length is None:
             link_length = 1.0

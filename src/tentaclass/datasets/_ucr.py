@@ -38,7 +38,9 @@ def ucr_shapes(name: str) -> Bunch:
     try:
         from aeon.datasets import load_classification
     except ImportError as exc:
-        raise InputError("ucr_shapes needs aeon: pip install 'tentaclass[bench]'") from exc
+        raise InputError(
+            f"the UCR data set {name!r} needs aeon: pip install 'tentaclass[bench]'"
+        ) from exc
     parts = []
     for split in ("train", "test"):
         X, y = load_classification(name, split=split)

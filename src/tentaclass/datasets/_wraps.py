@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import numbers
 import os
 from pathlib import Path
 
@@ -29,6 +30,18 @@ def _noise_range(noise: float | tuple[float, float]) -> tuple[float, float]:
     hi = check_positive_float(hi, "noise", allow_zero=True)
     if hi < lo:
         raise InputError(f"noise range must be (low, high) with low <= high, got {noise!r}")
+    return lo, hi
+
+
+def _range(value: tuple[float, float], name: str, *, allow_zero: bool) -> tuple[float, float]:
+    try:
+        lo, hi = value  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a pair (low, high), got {value!r}") from None
+    lo = check_positive_float(lo, name, allow_zero=allow_zero)
+    hi = check_positive_float(hi, name, allow_zero=allow_zero)
+    if hi < lo:
+        raise InputError(f"{name} range must be (low, high) with low <= high, got {value!r}")
     return lo, hi
 
 
@@ -130,6 +143,10 @@ def synthetic_tentacle(
     n_samples = check_positive_int(n_samples, "n_samples")
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     nlo, nhi = _noise_range(noise)
+    laps = _range(laps, "laps", allow_zero=False)
+    offset_links = _range(offset_links, "offset_links", allow_zero=True)
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
+        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
     rng = np.random.default_rng(seed)
     cls = rng.choice(THESIS_CLASSES, n_samples)
     lap_target = rng.uniform(*laps, n_samples)

@@ -100,16 +100,21 @@ def last_lap(
     # chain; a batched version would pad ragged laps for no gain at these sizes.
     for i in range(flat.shape[0]):
         found = _closure(points[i], t[i])
-        if found is None:
+        ring = None
+        if found is not None:
+            m, u = found
+            start = points[i, m] + u * (points[i, m + 1] - points[i, m])
+            ring = np.vstack([start, points[i, m + 1 : -1]])
+            steps = np.linalg.norm(np.diff(np.vstack([ring, ring[:1]]), axis=0), axis=1)
+            ring = ring[steps > 1e-12]
+            if len(ring) < 3:  # a degenerate "lap" of coincident joints
+                ring = None
+        if ring is None:
             chain = resample_closed(points[i], n_out + 1)  # along the open chain
             turns = points_to_angles(chain, closed=False)
             total = turns.sum()
             out[i] = turns * (2 * np.pi / total) if abs(total) > 1e-12 else 2 * np.pi / n_out
             continue
-        m, u = found
-        start = points[i, m] + u * (points[i, m + 1] - points[i, m])
-        ring = np.vstack([start, points[i, m + 1 : -1]])
-        keep = np.linalg.norm(np.diff(np.vstack([ring, ring[:1]]), axis=0), axis=1) > 1e-12
-        out[i] = points_to_angles(resample_closed(ring[keep], n_out))
+        out[i] = points_to_angles(resample_closed(ring, n_out))
         closed[i] = True
     return out.reshape(*batch, n_out), closed.reshape(batch)

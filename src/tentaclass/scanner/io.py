@@ -53,6 +53,10 @@ def detect_format(head: bytes, width: int | None = None) -> str:
     """
     if head.startswith((b"P1", b"P4")):
         return "pbm"
+    if head[:1] == b"P" and head[1:2] in (b"2", b"3", b"5", b"6"):
+        raise InputError(
+            f"unsupported Netpbm image {head[:2].decode()}: only bitmaps (PBM, P1 or P4) are read"
+        )
     if head.startswith(_PNG_MAGIC):
         return "png"
     return "raw" if width is not None else "text"
@@ -176,6 +180,10 @@ def _png_rows(fh: IO[bytes], chunk_rows: int) -> Iterator[np.ndarray]:
     try:
         with Image.open(fh) as im:
             img = np.asarray(im.convert("L"))
+    except MemoryError:
+        raise
+    except Image.UnidentifiedImageError as exc:
+        raise InputError("cannot read the PNG image: not an image Pillow can identify") from exc
     except Exception as exc:
         # Pillow reports damaged PNGs as OSError, SyntaxError, zlib.error, ...
         raise InputError(f"cannot read the PNG image: {type(exc).__name__}: {exc}") from exc

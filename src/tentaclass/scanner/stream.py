@@ -131,8 +131,14 @@ class LineScanner:
             bad = arr > 1
             if bad.any():
                 i, j = np.argwhere(bad)[0]
+                hint = (
+                    f" (the character {chr(arr[i, j])!r}: text rows? use --format text)"
+                    if arr[i, j] in (48, 49)
+                    else ""
+                )
                 raise InputError(
-                    f"row {self.rows_seen + i}, column {j}: byte value {arr[i, j]}, expected 0 or 1"
+                    f"row {self.rows_seen + i}, column {j}: byte value {arr[i, j]}, "
+                    f"expected 0 or 1{hint}"
                 )
             self._next_partial = data[n * self.width :]
             return arr.astype(bool)

@@ -49,10 +49,20 @@ def as_outline(points: ArrayLike, name: str = "outline") -> FloatArray:
     if len(p) < 3:
         raise InputError(f"{name} has fewer than 3 distinct points ({len(p)})")
     scale = float(np.ptp(p, axis=0).max())
+    if not np.isfinite(scale * scale) or scale * scale == 0:
+        raise InputError(
+            f"{name} spans {scale:g}: too large or too small to compute with; rescale it"
+        )
     area = signed_area(p)
-    if abs(area) <= 1e-12 * scale * scale:
-        raise InputError(f"{name} has zero area: its points are collinear")
     ring = shapely.LinearRing(p)
+    if abs(area) <= 1e-12 * scale * scale:
+        sv = np.linalg.svd(p - p.mean(axis=0), compute_uv=False)
+        if sv[1] > 1e-9 * sv[0] and not ring.is_simple:  # not collinear: a figure eight
+            raise InputError(
+                f"{name} intersects itself: an outline must be a simple closed polygon "
+                "(check the point order)"
+            )
+        raise InputError(f"{name} has zero area: its points are collinear")
     if not ring.is_simple:
         raise InputError(
             f"{name} intersects itself: an outline must be a simple closed polygon "

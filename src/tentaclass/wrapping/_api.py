@@ -39,8 +39,8 @@ def _as_batch(x: ArrayLike, name: str, b: int | None, lo: float, hi: float | Non
     if not np.all(np.isfinite(arr)):
         raise InputError(f"{name} contains NaN or infinite values")
     if np.any(arr < lo) or (hi is not None and np.any(arr >= hi)):
-        rng = f"[{lo:g}, {hi:g})" if hi is not None else f">= {lo:g}"
-        raise InputError(f"{name} must lie in {rng}, got {x!r}")
+        rng = f"in [{lo:g}, {hi:g})" if hi is not None else f">= {lo:g}"
+        raise InputError(f"{name} must be {rng}, got {x!r}")
     return arr if b is None else np.broadcast_to(arr, (b,)).copy()
 
 
@@ -245,7 +245,12 @@ def _finish(out, n, ls, off, mirror, noise, seed, on_start, scales, direction) -
         heading = np.pi - heading
     heading = np.pi - np.mod(np.pi - heading, 2 * np.pi)
     if noise > 0:
-        rng = np.random.default_rng(seed)
+        try:
+            rng = np.random.default_rng(seed)
+        except (TypeError, ValueError):
+            raise InputError(
+                f"seed must be None, an integer >= 0 or a numpy Generator, got {seed!r}"
+            ) from None
         angles = angles + rng.normal(0.0, noise, angles.shape)
     batch = WrapBatch(
         angles=angles,
