@@ -21,7 +21,8 @@ from _timing import best_time, markdown_table
 from tentaclass.manipulator import PlanarChain
 
 
-def _pinocchio_model(chain: PlanarChain):
+def pinocchio_model(chain: PlanarChain):
+    """The same chain in Pinocchio's model API: revolute-z joints along x."""
     import pinocchio as pin
 
     model = pin.Model()
@@ -44,7 +45,7 @@ def _time_chain(n: int, batch: int, repeat: int, rng: np.random.Generator) -> li
     chain = PlanarChain(
         rng.uniform(0.2, 2.0, n), rng.uniform(0.1, 3.0, n), rng.uniform(0.0, 1.0, n)
     )
-    model, data = _pinocchio_model(chain)
+    model, data = pinocchio_model(chain)
     q = rng.uniform(-np.pi, np.pi, (batch, n))
     qd = rng.normal(size=(batch, n))
     qdd = rng.normal(size=(batch, n))

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import importlib.util
+from pathlib import Path
+
 import numpy as np
 
 from tentaclass.manipulator import PlanarChain
@@ -18,22 +21,16 @@ def random_chain(rng: np.random.Generator, n: int, gravity: float = 9.81) -> Pla
     )
 
 
-def pinocchio_model(chain: PlanarChain):
-    """The same chain built with Pinocchio's model API: revolute-z joints along x."""
-    import pinocchio as pin
+def _load_bench_dynamics():
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_dynamics.py"
+    spec = importlib.util.spec_from_file_location("bench_dynamics", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
-    model = pin.Model()
-    parent = 0
-    for i in range(chain.n_links):
-        offset = 0.0 if i == 0 else chain.link_lengths[i - 1]
-        placement = pin.SE3(np.eye(3), np.array([offset, 0.0, 0.0]))
-        joint = model.addJoint(parent, pin.JointModelRZ(), placement, f"joint{i + 1}")
-        lever = np.array([chain.com[i] * chain.link_lengths[i], 0.0, 0.0])
-        inertia = pin.Inertia(chain.masses[i], lever, np.diag([0.0, 0.0, chain.inertia[i]]))
-        model.appendBodyToJoint(joint, inertia, pin.SE3.Identity())
-        parent = joint
-    model.gravity = pin.Motion(np.array([0.0, -chain.gravity, 0.0, 0.0, 0.0, 0.0]))
-    return model, model.createData()
+
+#: The Pinocchio reference chain, built in one place: the dynamics benchmark.
+pinocchio_model = _load_bench_dynamics().pinocchio_model
 
 
 def double_pendulum(chain: PlanarChain, q, qd):
