@@ -11,6 +11,12 @@ SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 MPEG7 = SHARED_DATA / "mpeg7-part-b"
 
 
+@pytest.fixture(autouse=True)
+def _private_cache(tmp_path_factory, monkeypatch):
+    """Caches go to a temporary folder, never the user's ~/.cache."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.getbasetemp() / "cache"))
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

@@ -2,10 +2,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from strategies import closed_laps
 from tentaclass import angles_to_points, points_to_angles
 from tentaclass.features import (
+    AngleSpectrum,
     FourierFeatures,
     canonical_direction,
     dft_layer,
@@ -155,3 +157,42 @@ def test_transformer_fractional_n_coeffs(rng):
     assert FourierFeatures(n_coeffs=0.01).fit(X).n_coeffs_ == 1
     with pytest.raises(ValueError, match="fractional"):
         FourierFeatures(n_coeffs=1.5).fit(X)
+
+
+def test_angle_spectrum_known_values():
+    square = np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)[None]
+    f = AngleSpectrum().fit_transform(square)
+    assert f.shape == (1, 9)
+    # the mean turn (2 pi / 16) and the harmonics of period 4 survive
+    expected = np.zeros(9)
+    expected[[0, 4, 8]] = np.pi / 8
+    np.testing.assert_allclose(f[0], expected, atol=1e-12)
+    twice = np.tile([0.0, np.pi / 2], 8)[None]  # a smaller square, two laps in 16 joints
+    assert AngleSpectrum(n_coeffs=1).fit_transform(twice)[0, 0] == pytest.approx(np.pi / 4)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 30), st.integers(4, 40))
+def test_angle_spectrum_ignores_where_the_chain_starts(shift, n):
+    q = np.random.default_rng(n).normal(size=(2, n))
+    t = AngleSpectrum().fit(q)
+    np.testing.assert_allclose(t.transform(np.roll(q, shift, axis=1)), t.transform(q), atol=1e-12)
+    np.testing.assert_allclose(t.transform(q[:, ::-1]), t.transform(q), atol=1e-12)
+
+
+@pytest.mark.parametrize("n_coeffs", [0, 10, 2.5, True])
+def test_angle_spectrum_bad_n_coeffs(n_coeffs):
+    with pytest.raises(ValueError, match="n_coeffs"):
+        AngleSpectrum(n_coeffs=n_coeffs).fit(np.zeros((2, 16)))
+
+
+@parametrize_with_checks([AngleSpectrum()])
+def test_angle_spectrum_passes_sklearn_checks(estimator, check):
+    check(estimator)
+
+
+def test_angle_spectrum_feature_names():
+    X = np.ones((2, 8))
+    assert AngleSpectrum(3).fit(X).get_feature_names_out().tolist() == [
+        "spectrum0", "spectrum1", "spectrum2"
+    ]  # fmt: skip

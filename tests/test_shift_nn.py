@@ -4,6 +4,7 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from tentaclass.classifiers._shift_nn import ShiftNNClassifier
 from tentaclass.datasets import thesis_tentacle
+from tentaclass.geometry import angles_to_points
 
 
 @parametrize_with_checks([ShiftNNClassifier(signal="raw")])
@@ -47,3 +48,54 @@ def test_bad_signal_option():
     for kw in ({"mirror": "no"}, {"center": None}):  # were read as truthy / falsy
         with pytest.raises(ValueError, match=next(iter(kw))):
             ShiftNNClassifier(**kw).fit(np.zeros((2, 8)), [0, 1])
+
+
+def brute_force_procrustes(za, zb, mirror):
+    """min over shifts and rotations of |zb - e^{i t} roll(za, s)|^2 by least squares."""
+    cands = [za] + ([np.conj(za[::-1])] if mirror else [])
+    best = np.inf
+    for c in cands:
+        for s in range(len(za)):
+            a = np.roll(c, s)
+            rot = np.vdot(a, zb) / np.vdot(a, a)  # best complex factor ...
+            rot /= abs(rot)  # ... restricted to a pure rotation
+            best = min(best, np.sum(np.abs(zb - rot * a) ** 2))
+    return best
+
+
+@pytest.mark.parametrize("mirror", [True, False])
+def test_shape_distances_equal_brute_force_procrustes(mirror, rng):
+    from tentaclass.classifiers._shift_nn import _closed_polygon
+
+    A, B = rng.normal(0.4, 0.2, size=(5, 12)), rng.normal(0.4, 0.2, size=(3, 12))
+    clf = ShiftNNClassifier(signal="shape", mirror=mirror).fit(A, np.arange(5))
+    za, zb = _closed_polygon(A), _closed_polygon(B)
+    expected = [[brute_force_procrustes(a, b, mirror) for a in za] for b in zb]
+    np.testing.assert_allclose(clf.shift_distances(B), expected, atol=1e-9)
+
+
+def test_shape_signal_ignores_start_direction_rotation_and_link_length():
+    X, y = thesis_tentacle(64, return_X_y=True)
+    clf = ShiftNNClassifier(signal="shape").fit(X, y)
+    cw = -X[:, ::-1]  # the same wraps, the other way round
+    for q in (X, np.roll(X, 11, axis=1), cw, np.roll(cw, 5, axis=1)):
+        d = clf.shift_distances(q)
+        np.testing.assert_allclose(np.diag(d), 0.0, atol=1e-9)
+        assert clf.predict(q).tolist() == y.tolist()
+
+
+def test_shape_signal_spreads_closure_errors():
+    from tentaclass.classifiers._shift_nn import _closed_polygon
+
+    X, _ = thesis_tentacle(64, return_X_y=True)
+    noisy = X + np.random.default_rng(3).normal(0, 0.05, X.shape)
+    z = _closed_polygon(noisy)
+    np.testing.assert_allclose(z.mean(axis=1), 0.0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(z, axis=1), 1.0)
+    # the open chain drifts; the closed polygon stays nearer the noise-free one
+    p = angles_to_points(noisy)[:, :-1]
+    open_z = p[..., 0] + 1j * p[..., 1]
+    open_z -= open_z.mean(axis=1, keepdims=True)
+    open_z /= np.linalg.norm(open_z, axis=1, keepdims=True)
+    clean = _closed_polygon(X)
+    assert np.abs(z - clean).max() < 0.5 * np.abs(open_z - clean).max()

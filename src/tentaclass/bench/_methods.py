@@ -12,15 +12,16 @@ from dataclasses import dataclass
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.ensemble import HistGradientBoostingClassifier
 from sklearn.neighbors import KNeighborsClassifier
-from sklearn.pipeline import make_pipeline
+from sklearn.pipeline import make_pipeline, make_union
 from sklearn.preprocessing import StandardScaler
 from sklearn.svm import SVC
 
 from ..classifiers import PNNClassifier, TentacleClassifier
 from ..classifiers._shift_nn import ShiftNNClassifier
 from ..errors import InputError
-from ..features import LastLap
+from ..features import AngleSpectrum, FourierFeatures, LastLap
 
 
 class _AeonAdapter(ClassifierMixin, BaseEstimator):
@@ -96,6 +97,12 @@ METHODS: dict[str, Method] = {
             True,
         ),
         Method(
+            "shape-nn",
+            lambda: ShiftNNClassifier(signal="shape"),
+            "1-NN on the rebuilt joint polygon, best start point, rotation and mirror (FFT)",
+            True,
+        ),
+        Method(
             "lap-shift-nn",
             lambda: make_pipeline(LastLap(), ShiftNNClassifier(signal="turning")),
             "last full lap (drops approach and extra laps) + shift-invariant 1-NN",
@@ -115,6 +122,17 @@ METHODS: dict[str, Method] = {
                 LastLap(), TentacleClassifier(n_coeffs=0.5, classifier=KNeighborsClassifier(1))
             ),
             "last full lap + lowest half of the |DFT| coefficients (2 pi ramp) + 1-NN",
+            True,
+        ),
+        Method(
+            "lap-spectrum-hgb",
+            lambda: make_pipeline(
+                make_union(
+                    make_pipeline(LastLap(), FourierFeatures(detrend=True)), AngleSpectrum()
+                ),
+                HistGradientBoostingClassifier(max_iter=300, random_state=0),
+            ),
+            "|DFT| of the last lap + |DFT| of the whole array + gradient-boosted trees",
             True,
         ),
         Method(

@@ -8,6 +8,7 @@ the wrap parameters, and for MPEG-7 finds the link length that closes one lap.
 from __future__ import annotations
 
 import hashlib
+import inspect
 import json
 import numbers
 import os
@@ -169,13 +170,18 @@ def synthetic_tentacle(
 
 
 def _generator_digest() -> str:
-    """Hash of the wrap generator's source: a changed generator never reads old wraps."""
+    """Hash of the wrap generator's source: a changed generator never reads old wraps.
+
+    Covers the wrapping package and the functions here that make the wraps, not
+    this module's docstrings or its other datasets.
+    """
     from .. import wrapping
 
     h = hashlib.sha256()
     for f in sorted(Path(wrapping.__file__).parent.glob("*.py")):
         h.update(f.read_bytes())
-    h.update(Path(__file__).read_bytes())
+    for func in (_winding, _wrap_both_ways, _one_lap_lengths, _one_lap_wraps):
+        h.update(inspect.getsource(func).encode())
     return h.hexdigest()[:16]
 
 
@@ -213,6 +219,19 @@ def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=22):
     return lo
 
 
+def _one_lap_wraps(outlines, n_links, mode, copies, seed):
+    """Noise-free one-lap wraps, copy after copy; NaN rows where a chain jammed."""
+    rng = np.random.default_rng(seed)
+    m = len(outlines) * copies
+    rows = [outlines[i] for _ in range(copies) for i in range(len(outlines))]
+    starts = rng.uniform(0, 1, m)
+    cw = rng.random(m) < 0.5
+    lengths = _one_lap_lengths(rows, n_links, starts, cw, mode)
+    angles, _, _, done = _wrap_both_ways(rows, n_links, lengths, starts, np.zeros(m), cw, mode)
+    angles[~done] = np.nan  # the chain jammed (hug mode): no full array
+    return angles
+
+
 def mpeg7_tentacle(
     folder: str | Path,
     n_links: int = 64,
@@ -245,8 +264,9 @@ def mpeg7_tentacle(
     max_vertices : int, default=1000
         Outlines are resampled to at most this many vertices first.
     cache : bool, default=True
-        Keep the noise-free wraps on disk (``~/.cache/tentaclass``): the
-        bisection takes a while for 1400 shapes.
+        Keep the outlines and the noise-free wraps on disk
+        (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``): the
+        bisection takes a while for 1400 shapes. ``False`` writes nothing.
 
     Returns
     -------
@@ -262,7 +282,7 @@ def mpeg7_tentacle(
     noise = check_positive_float(noise, "noise", allow_zero=True)
     if mode not in ("taut", "hug"):
         raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
-    outlines, labels, names = load_mpeg7(folder, max_vertices=max_vertices)
+    outlines, labels, names = load_mpeg7(folder, max_vertices=max_vertices, cache=cache)
     key = {"n": n_links, "mode": mode, "copies": copies, "seed": seed, "mv": max_vertices,
            "files": len(names), "code": _generator_digest()}  # fmt: skip
     path = _cache_path(key)
@@ -270,14 +290,7 @@ def mpeg7_tentacle(
         with np.load(path, allow_pickle=False) as f:
             angles = f["angles"]
     else:
-        rng = np.random.default_rng(seed)
-        m = len(outlines) * copies
-        rows = [outlines[i] for _ in range(copies) for i in range(len(outlines))]
-        starts = rng.uniform(0, 1, m)
-        cw = rng.random(m) < 0.5
-        lengths = _one_lap_lengths(rows, n_links, starts, cw, mode)
-        angles, _, _, done = _wrap_both_ways(rows, n_links, lengths, starts, np.zeros(m), cw, mode)
-        angles[~done] = np.nan  # the chain jammed (hug mode): no full array
+        angles = _one_lap_wraps(outlines, n_links, mode, copies, seed)
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             np.savez(path, angles=angles)

@@ -2,10 +2,11 @@
 
 from .fourier import dft_layer, fourier_features
 from .lap import last_lap
-from .transformers import FourierFeatures, LastLap
+from .transformers import AngleSpectrum, FourierFeatures, LastLap
 from .turning import canonical_direction, periodic_signal, turning_function
 
 __all__ = [
+    "AngleSpectrum",
     "FourierFeatures",
     "LastLap",
     "canonical_direction",

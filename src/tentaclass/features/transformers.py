@@ -16,7 +16,7 @@ from ..errors import InputError
 from .fourier import fourier_features
 from .lap import last_lap
 
-__all__ = ["FourierFeatures", "LastLap"]
+__all__ = ["AngleSpectrum", "FourierFeatures", "LastLap"]
 
 
 class FourierFeatures(TransformerMixin, BaseEstimator):
@@ -177,3 +177,82 @@ class LastLap(TransformerMixin, BaseEstimator):
         check_is_fitted(self)
         X = validate_data(self, X, dtype=np.float64, reset=False)
         return last_lap(X, self.n_out_)[0]
+
+
+class AngleSpectrum(TransformerMixin, BaseEstimator):
+    """Joint angles -> ``|DFT|`` of the angle array itself, as a transformer.
+
+    Where :class:`FourierFeatures` describes one closed lap, this describes the
+    whole wrap as measured, approach links and extra laps included: coefficient
+    0 is the mean joint angle (the total turn over the number of joints, so it
+    counts the laps), the others how the turning is distributed along the
+    chain. A chain that wraps 1.6 laps sees part of the object twice, from
+    other joint positions; the last lap alone cannot tell a square from a
+    circle when its joints cut the corners, the whole array often can. Use it
+    next to :class:`LastLap` + :class:`FourierFeatures` in a feature union.
+
+    Parameters
+    ----------
+    n_coeffs : int, optional
+        Frequencies ``0 .. n_coeffs - 1`` to keep; default all
+        ``floor(n_joints / 2) + 1`` of them.
+
+    Attributes
+    ----------
+    n_features_in_ : int
+    n_coeffs_ : int
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = np.tile([0, 0, 0, np.pi / 2], 4)[None]
+    >>> AngleSpectrum(n_coeffs=5).fit_transform(square).round(4)
+    array([[0.3927, 0.    , 0.    , 0.    , 0.3927]])
+    """
+
+    def __init__(self, n_coeffs: int | None = None):
+        self.n_coeffs = n_coeffs
+
+    def fit(self, X: ArrayLike, y: ArrayLike | None = None) -> AngleSpectrum:
+        """Check ``X`` and the number of coefficients.
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_joints)
+        y : ignored
+
+        Returns
+        -------
+        self : AngleSpectrum
+        """
+        X = validate_data(self, X, dtype=np.float64)
+        top = X.shape[1] // 2 + 1
+        k = top if self.n_coeffs is None else self.n_coeffs
+        if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k:
+            raise InputError(f"n_coeffs must be a positive integer, got {self.n_coeffs!r}")
+        if k > top:
+            raise InputError(
+                f"n_coeffs must be at most floor(n_joints / 2) + 1 = {top}, got {self.n_coeffs}"
+            )
+        self.n_coeffs_ = int(k)
+        return self
+
+    def transform(self, X: ArrayLike) -> FloatArray:
+        """``|rfft(q)| / n_joints``, frequencies ``0 .. n_coeffs_ - 1``.
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_joints)
+
+        Returns
+        -------
+        features : ndarray of shape (n_samples, n_coeffs_)
+        """
+        check_is_fitted(self)
+        X = validate_data(self, X, dtype=np.float64, reset=False)
+        return np.abs(np.fft.rfft(X, axis=1)[:, : self.n_coeffs_]) / X.shape[1]
+
+    def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
+        """Names ``spectrum0 .. spectrumK-1`` of the output columns."""
+        check_is_fitted(self)
+        return np.array([f"spectrum{k}" for k in range(self.n_coeffs_)], dtype=object)
