@@ -2,7 +2,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from tentaclass.bench import confusion_figure, make_method, results_markdown, run_benchmark
+from tentaclass.bench import METHODS, confusion_figure, make_method, results_markdown, run_benchmark
+from tentaclass.bench._runner import _splits
 from tentaclass.cli.main import cli
 from tentaclass.datasets import reference_tentacle
 
@@ -93,3 +94,21 @@ def test_bench_cli_ucr_without_aeon_names_the_data_set(tmp_path, monkeypatch):
     assert r.exit_code == 1
     assert "'ArrowHead' needs aeon" in r.output and "pip install" in r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("name", [m.name for m in METHODS.values() if m.ours])
+def test_each_of_our_methods_recognises_the_reference_shapes(name):
+    X, y = reference_tentacle(32, n_starts=24, return_X_y=True)
+    (r,) = run_benchmark(X, y, [name], n_splits=4)
+    assert not r.error and r.accuracy >= 0.9, (r.error, r.accuracy)
+
+
+def test_objects_that_are_never_scored_still_train():
+    _, y = reference_tentacle(16, n_starts=12, return_X_y=True)
+    groups = np.arange(len(y))
+    is_eval = np.arange(len(y)) % 2 == 0  # half the objects are never scored
+    folds = _splits(y, groups, is_eval, None, 4, 0)
+    for tr, te in folds:
+        assert set(np.flatnonzero(~is_eval)) <= set(tr)  # always in training
+        assert not set(tr) & set(te)
+    assert sorted(np.concatenate([te for _, te in folds])) == np.flatnonzero(is_eval).tolist()

@@ -57,5 +57,22 @@ def test_mpeg7_wraps_on_a_few_files(mpeg7_folder, tmp_path):
     assert d.wrap_index.tolist() == [0] * 4 + [1] * 4
     assert d.complete.all()  # taut chains never jam
     np.testing.assert_allclose(np.abs(d.data.sum(axis=1)), 2 * np.pi, atol=0.5)
+    # the gap is where the rebuilt chain ends, in links: independent check by a loop
+    for q, gap in zip(d.data, d.closure_gap, strict=True):
+        heading = np.cumsum(q)
+        end = np.array([np.cos(heading).sum(), np.sin(heading).sum()])
+        assert gap == pytest.approx(np.hypot(*end), abs=1e-9)
+    assert np.all(d.closure_gap < 2.0)  # taut laps close to within a couple of links
     again = mpeg7_tentacle(tmp_path, 32, copies=2, seed=0, cache=False)
     np.testing.assert_array_equal(d.data, again.data)
+
+
+def test_mpeg7_wraps_without_cache_write_nothing(mpeg7_folder, tmp_path, monkeypatch):
+    data = tmp_path / "data"
+    data.mkdir()
+    shutil.copy(mpeg7_folder / "apple-1.png", data / "apple-1.png")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    mpeg7_tentacle(data, 16, cache=False)
+    assert not (tmp_path / "cache").exists()
+    mpeg7_tentacle(data, 16)
+    assert len(list((tmp_path / "cache").glob("tentaclass/*.npz"))) == 2  # outlines, wraps

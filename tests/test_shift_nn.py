@@ -99,3 +99,37 @@ def test_shape_signal_spreads_closure_errors():
     open_z /= np.linalg.norm(open_z, axis=1, keepdims=True)
     clean = _closed_polygon(X)
     assert np.abs(z - clean).max() < 0.5 * np.abs(open_z - clean).max()
+
+
+@pytest.mark.parametrize("n_harmonics, power", [(3, 0.0), (0.5, 1.0), (None, 0.5)])
+def test_weighted_distances_equal_brute_force_on_filtered_signals(n_harmonics, power, rng):
+    A, B = rng.normal(size=(5, 14)), rng.normal(size=(3, 14))
+    clf = ShiftNNClassifier(signal="raw", n_harmonics=n_harmonics, weight_power=power)
+    clf.fit(A, np.arange(5))
+    top = {3: 3, 0.5: 4, None: 7}[n_harmonics]
+    k = np.arange(8)
+    w = np.where(k <= top, np.maximum(k, 1) ** power, 0.0)
+
+    def filtered(X):
+        X = X - X.mean(axis=1, keepdims=True)
+        return np.fft.irfft(np.fft.rfft(X, axis=1) * w, n=14, axis=1)
+
+    expected = brute_force(filtered(A), filtered(B), mirror=True)
+    np.testing.assert_allclose(clf.shift_distances(B), expected, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"n_harmonics": 0}, "n_harmonics must be between"),
+        ({"n_harmonics": 9}, "n_harmonics must be between"),
+        ({"n_harmonics": 1.5}, "fractional n_harmonics"),
+        ({"n_harmonics": "all"}, "n_harmonics must be a number"),
+        ({"weight_power": np.nan}, "weight_power must be a finite number"),
+        ({"signal": "shape", "weight_power": "x"}, "weight_power must be a finite number"),
+    ],
+)
+def test_bad_harmonic_options(kwargs, match):
+    X = np.random.default_rng(0).normal(0.4, 0.1, size=(4, 16))
+    with pytest.raises(ValueError, match=match):
+        ShiftNNClassifier(**kwargs).fit(X, [0, 0, 1, 1])

@@ -97,9 +97,21 @@ METHODS: dict[str, Method] = {
             True,
         ),
         Method(
+            "shift-nn-lp",
+            lambda: ShiftNNClassifier(signal="turning", n_harmonics=0.5, weight_power=0.5),
+            "shift-nn on the lowest half of the frequencies, weighted by sqrt(k) (noise-robust)",
+            True,
+        ),
+        Method(
             "shape-nn",
             lambda: ShiftNNClassifier(signal="shape"),
             "1-NN on the rebuilt joint polygon, best start point, rotation and mirror (FFT)",
+            True,
+        ),
+        Method(
+            "lap-shape-nn",
+            lambda: make_pipeline(LastLap(), ShiftNNClassifier(signal="shape")),
+            "last full lap + shape-nn (clean encoders: the lap is rebuilt from positions)",
             True,
         ),
         Method(

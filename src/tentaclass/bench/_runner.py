@@ -40,9 +40,10 @@ def _splits(y, groups, is_eval, split, n_splits, seed):
     eval_rows = np.flatnonzero(is_eval)
     skf = StratifiedKFold(n_splits=n_splits, shuffle=True, random_state=seed)
     out = []
-    for tr, te in skf.split(eval_rows, y[eval_rows]):
-        train_groups = groups[eval_rows[tr]]
-        out.append((np.flatnonzero(np.isin(groups, train_groups)), eval_rows[te]))
+    for _, te in skf.split(eval_rows, y[eval_rows]):
+        # every array of an object not under test trains, scored or not
+        test_groups = groups[eval_rows[te]]
+        out.append((np.flatnonzero(~np.isin(groups, test_groups)), eval_rows[te]))
     return out
 
 
@@ -71,8 +72,10 @@ def run_benchmark(
         Object each array was measured on. Folds split objects, never arrays of
         one object, and a method trains on every array of its training objects.
     is_eval : array_like of bool, shape (n_samples,), optional
-        The arrays that are scored (one per object); default all. Others only
-        train (extra wraps of training objects, e.g. with noise).
+        The arrays that are scored (at most one per object); default all.
+        Others only train (extra wraps of training objects, e.g. with noise, or
+        every array of an object left out of the scoring): a method trains on
+        every array of every object not under test.
     split : array_like of {"train", "test"}, optional
         An official train/test split instead of k folds.
     n_splits : int, default=10

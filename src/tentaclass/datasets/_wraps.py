@@ -20,6 +20,7 @@ from sklearn.utils import Bunch
 
 from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
+from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
 from ..wrapping import wrap_many
 from ._thesis import THESIS_CLASSES
@@ -275,7 +276,12 @@ def mpeg7_tentacle(
         the silhouette's index, ``wrap_index`` the copy number, ``names`` file names,
         ``complete`` False where the chain jammed before placing every link
         (possible in ``"hug"`` mode; those rows are NaN - drop them, or drop
-        their silhouettes with ``groups``).
+        their silhouettes with ``groups``), ``closure_gap`` how far (in links)
+        the noise-free chain's last joint ends from its first. Taut wraps close
+        to within a link or so; in ``"hug"`` mode the last joint's position
+        jumps as the link length crosses the width of a concavity the chain
+        can enter, so for many silhouettes no link length closes the lap and
+        the wrap stops short or overshoots by several links.
     """
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
@@ -294,13 +300,17 @@ def mpeg7_tentacle(
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             np.savez(path, angles=angles)
+    joints = angles_to_points(np.nan_to_num(angles))
+    gap = np.hypot(*(joints[:, -1] - joints[:, 0]).T)  # in links (unit link length)
     rng = np.random.default_rng([seed, 1])
     if noise > 0:
         angles = angles + rng.normal(0.0, noise, angles.shape)
     n_shapes = len(outlines)
     complete = np.all(np.isfinite(angles), axis=1)
+    gap[~complete] = np.nan
     return Bunch(
         complete=complete,
+        closure_gap=gap,
         data=angles,
         target=np.tile(labels, copies),
         groups=np.tile(np.arange(n_shapes), copies),
