@@ -181,7 +181,7 @@ def _generator_digest() -> str:
     h = hashlib.sha256()
     for f in sorted(Path(wrapping.__file__).parent.glob("*.py")):
         h.update(f.read_bytes())
-    for func in (_winding, _wrap_both_ways, _one_lap_lengths, _one_lap_wraps):
+    for func in (_winding, _wrap_both_ways, _one_lap_lengths, _closure_gaps, _one_lap_wraps):
         h.update(inspect.getsource(func).encode())
     return h.hexdigest()[:16]
 
@@ -220,16 +220,43 @@ def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=22):
     return lo
 
 
-def _one_lap_wraps(outlines, n_links, mode, copies, seed):
-    """Noise-free one-lap wraps, copy after copy; NaN rows where a chain jammed."""
+def _closure_gaps(angles):
+    """Distance from the last joint to the first, in links (NaN rows -> inf)."""
+    joints = angles_to_points(np.nan_to_num(angles))
+    gap = np.hypot(*(joints[:, -1] - joints[:, 0]).T)
+    return np.where(np.all(np.isfinite(angles), axis=1), gap, np.inf)
+
+
+def _one_lap_wraps(outlines, n_links, mode, copies, seed, retries=3, max_gap=0.5):
+    """Noise-free one-lap wraps, copy after copy; NaN rows where a chain jammed.
+
+    From some start points no link length closes the lap: the last joint jumps
+    past the start as the link length crosses the width of a concavity the
+    chain can enter (hug mode), or a link tip overhangs a corner there. Such
+    wraps (gap above ``max_gap`` links) are tried again from up to ``retries``
+    other random start points, keeping the best.
+    """
     rng = np.random.default_rng(seed)
     m = len(outlines) * copies
     rows = [outlines[i] for _ in range(copies) for i in range(len(outlines))]
     starts = rng.uniform(0, 1, m)
     cw = rng.random(m) < 0.5
-    lengths = _one_lap_lengths(rows, n_links, starts, cw, mode)
-    angles, _, _, done = _wrap_both_ways(rows, n_links, lengths, starts, np.zeros(m), cw, mode)
-    angles[~done] = np.nan  # the chain jammed (hug mode): no full array
+    angles = np.full((m, n_links), np.nan)
+    gap = np.full(m, np.inf)
+    todo = np.arange(m)
+    for attempt in range(retries + 1):
+        sub = [rows[i] for i in todo]
+        st = starts[todo] if attempt == 0 else rng.uniform(0, 1, todo.size)
+        lengths = _one_lap_lengths(sub, n_links, st, cw[todo], mode)
+        a, _, _, done = _wrap_both_ways(sub, n_links, lengths, st, np.zeros(todo.size), cw[todo],
+                                        mode)  # fmt: skip
+        a[~done] = np.nan  # the chain jammed (hug mode): no full array
+        g = _closure_gaps(a)
+        better = g < gap[todo]
+        angles[todo[better]], gap[todo[better]] = a[better], g[better]
+        todo = np.flatnonzero(gap > max_gap)
+        if todo.size == 0:
+            break
     return angles
 
 
@@ -277,11 +304,12 @@ def mpeg7_tentacle(
         ``complete`` False where the chain jammed before placing every link
         (possible in ``"hug"`` mode; those rows are NaN - drop them, or drop
         their silhouettes with ``groups``), ``closure_gap`` how far (in links)
-        the noise-free chain's last joint ends from its first. Taut wraps close
-        to within a link or so; in ``"hug"`` mode the last joint's position
-        jumps as the link length crosses the width of a concavity the chain
-        can enter, so for many silhouettes no link length closes the lap and
-        the wrap stops short or overshoots by several links.
+        the noise-free chain's last joint ends from its first. From some start
+        points no link length closes the lap (in ``"hug"`` mode the last joint
+        jumps as the link length crosses the width of a concavity the chain can
+        enter); such wraps are retried from up to three other random start
+        points and the best kept, so a few silhouettes keep a gap of a link or
+        more.
     """
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
@@ -300,8 +328,7 @@ def mpeg7_tentacle(
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             np.savez(path, angles=angles)
-    joints = angles_to_points(np.nan_to_num(angles))
-    gap = np.hypot(*(joints[:, -1] - joints[:, 0]).T)  # in links (unit link length)
+    gap = _closure_gaps(angles)
     rng = np.random.default_rng([seed, 1])
     if noise > 0:
         angles = angles + rng.normal(0.0, noise, angles.shape)
