@@ -31,3 +31,18 @@ def test_bench_recognition_quick(tmp_path, capsys):
     load("bench_recognition").main(quick=True, out=tmp_path)
     assert "| thesis |" in capsys.readouterr().out
     assert (tmp_path / "quick.md").exists()
+
+
+def test_mpeg7_ceiling_smoke(mpeg7_folder, tmp_path, capsys):
+    import shutil
+
+    for cls in ("apple", "Bone", "key"):
+        files = sorted(mpeg7_folder.glob(f"{cls}-*.png"))[:10]
+        assert len(files) == 10
+        for f in files:
+            shutil.copy(f, tmp_path / f.name)
+    rows = load("mpeg7_ceiling").main(folder=tmp_path, points=(64,))
+    acc = dict(((kind, n), a) for kind, n, a in rows)
+    # three distinct classes: the outline tells them apart, the hull nearly so
+    assert acc["outline", 64] >= 0.9 and acc["hull", 64] >= 0.7
+    assert "exact hull" in capsys.readouterr().out
