@@ -53,9 +53,9 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
     weight_power : float, default=0.0
         Scale frequency ``k`` by ``k ** weight_power`` before comparing. Joint
         noise is white in the angles, so in the turning signal (their running
-        sum) it falls like ``1 / k``: a power between 0.5 and 1 with a quarter
-        of the frequencies (``n_harmonics=0.5``) is what held up best on MPEG-7
-        wraps with 0.05 rad noise (BENCHMARKS.md).
+        sum) it falls like ``1 / k``: a power between 0.5 and 1 with the lowest
+        half of the frequencies (``n_harmonics=0.5``) is what held up best on
+        taut MPEG-7 wraps with 0.05 rad noise (BENCHMARKS.md).
 
     Attributes
     ----------
