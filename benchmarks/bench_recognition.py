@@ -21,7 +21,7 @@ from tentaclass.datasets import mpeg7_tentacle, synthetic_tentacle, ucr_shapes
 
 MPEG7 = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "mpeg7-part-b"
 OURS = ["thesis", "fourier-1nn", "lap-fourier-lp-1nn", "shift-nn", "shift-nn-lp", "shape-nn",
-        "lap-shape-nn"]  # fmt: skip
+        "chord-shape-nn", "lap-shape-nn"]  # fmt: skip
 PEERS = ["1nn-euclidean", "svc", "minirocket"]
 
 

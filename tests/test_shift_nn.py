@@ -133,3 +133,28 @@ def test_bad_harmonic_options(kwargs, match):
     X = np.random.default_rng(0).normal(0.4, 0.1, size=(4, 16))
     with pytest.raises(ValueError, match=match):
         ShiftNNClassifier(**kwargs).fit(X, [0, 0, 1, 1])
+
+
+def test_chord_closure_matches_a_chain_that_stops_short():
+    from tentaclass.classifiers._shift_nn import _closed_polygon
+
+    X, y = thesis_tentacle(64, return_X_y=True)
+    short = X[:, :60]  # the last 4 links missing: a straight gap closes the lap
+    z = _closed_polygon(short, "chord")
+    np.testing.assert_allclose(z.mean(axis=1), 0.0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(z, axis=1), 1.0)
+    # equal arc-length steps: straight steps all alike, only corners cut shorter
+    steps = np.abs(np.diff(np.concatenate([z, z[:, :1]], axis=1), axis=1))
+    alike = np.isclose(steps, np.median(steps, axis=1, keepdims=True), rtol=0.02)
+    assert np.all(alike.mean(axis=1) > 0.75)
+    clf = ShiftNNClassifier(signal="shape", closure="chord").fit(X[:, :60], y)
+    rotated = short.copy()
+    rotated[:, 0] += 0.7  # the same chain, turned as a whole
+    for q in (short, rotated):
+        np.testing.assert_allclose(np.diag(clf.shift_distances(q)), 0.0, atol=1e-9)
+    assert clf.predict(rotated).tolist() == y.tolist()
+
+
+def test_bad_closure_option():
+    with pytest.raises(ValueError, match="closure must be"):
+        ShiftNNClassifier(signal="shape", closure="zip").fit(np.ones((2, 8)), [0, 1])

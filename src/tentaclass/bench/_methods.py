@@ -109,6 +109,12 @@ METHODS: dict[str, Method] = {
             True,
         ),
         Method(
+            "chord-shape-nn",
+            lambda: ShiftNNClassifier(signal="shape", closure="chord"),
+            "shape-nn, the chain closed by its gap chord (clean encoders, laps that do not close)",
+            True,
+        ),
+        Method(
             "lap-shape-nn",
             lambda: make_pipeline(LastLap(), ShiftNNClassifier(signal="shape")),
             "last full lap + shape-nn (clean encoders: the lap is rebuilt from positions)",

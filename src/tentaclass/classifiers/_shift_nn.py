@@ -12,7 +12,7 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
 from ..features import canonical_direction, periodic_signal
-from ..geometry import angles_to_points
+from ..geometry import angles_to_points, resample_closed
 
 __all__ = ["ShiftNNClassifier"]
 
@@ -56,6 +56,15 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         sum) it falls like ``1 / k``: a power between 0.5 and 1 with the lowest
         half of the frequencies (``n_harmonics=0.5``) is what held up best on
         taut MPEG-7 wraps with 0.05 rad noise (BENCHMARKS.md).
+    closure : {"spread", "chord"}, default="spread"
+        How ``signal="shape"`` closes a chain that does not end where it began.
+        ``"spread"``: set the total turn to one lap and remove the end-point gap
+        linearly along the chain - right when the gap is joint noise, which it
+        spreads evenly. ``"chord"``: close the polygon with the straight gap
+        from the last joint to the first and resample it to equal arc lengths -
+        right for clean encoders on a chain that stopped short of, or ran past,
+        its start (hugging wraps: 91.7 % against 84.3 % on MPEG-7, but 58 %
+        against 82 % with 0.05 rad noise).
 
     Attributes
     ----------
@@ -78,7 +87,9 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         center: bool = True,
         n_harmonics: int | float | None = None,
         weight_power: float = 0.0,
+        closure: str = "spread",
     ):
+        self.closure = closure
         self.signal = signal
         self.mirror = mirror
         self.center = center
@@ -89,7 +100,7 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         if self.signal == "turning":
             s = periodic_signal(canonical_direction(X), detrend=True)
         elif self.signal == "shape":
-            return _closed_polygon(X)
+            return _closed_polygon(X, self.closure)
         else:
             s = X
         if self.center:
@@ -142,6 +153,8 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         """
         if self.signal not in ("turning", "shape", "raw"):
             raise InputError(f"signal must be 'turning', 'shape' or 'raw', got {self.signal!r}")
+        if self.closure not in ("spread", "chord"):
+            raise InputError(f"closure must be 'spread' or 'chord', got {self.closure!r}")
         for name in ("mirror", "center"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
@@ -201,20 +214,26 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         return self.classes_[self._y[np.argmin(self.shift_distances(X), axis=1)]]
 
 
-def _closed_polygon(q: FloatArray) -> np.ndarray:
+def _closed_polygon(q: FloatArray, closure: str = "spread") -> np.ndarray:
     """Joint polygon of one-lap wraps as complex points, closed, centred, unit norm.
 
-    Joint noise makes the rebuilt chain miss its start in heading and in
-    position; both misses are spread evenly over the links (the turn is set to
-    exactly one lap, then the end-point gap is removed linearly), so noise does
-    not pile up at the end of the chain.
+    ``"spread"``: joint noise makes the rebuilt chain miss its start in heading
+    and in position; both misses are spread evenly over the links (the turn is
+    set to exactly one lap, then the end-point gap is removed linearly), so
+    noise does not pile up at the end of the chain. ``"chord"``: the polygon is
+    closed by the straight gap back to the first joint and resampled to equal
+    arc lengths.
     """
     q = canonical_direction(q)
     n = q.shape[1]
-    q = q + (2 * np.pi - q.sum(axis=1, keepdims=True)) / n
-    p = angles_to_points(q)
-    p = p - (np.arange(n + 1) / n)[None, :, None] * (p[:, -1:] - p[:, :1])
-    z = p[:, :-1, 0] + 1j * p[:, :-1, 1]
+    if closure == "chord":
+        p = resample_closed(angles_to_points(q), n)
+    else:
+        q = q + (2 * np.pi - q.sum(axis=1, keepdims=True)) / n
+        p = angles_to_points(q)
+        p = p - (np.arange(n + 1) / n)[None, :, None] * (p[:, -1:] - p[:, :1])
+        p = p[:, :-1]
+    z = p[..., 0] + 1j * p[..., 1]
     z = z - z.mean(axis=1, keepdims=True)
     norm = np.linalg.norm(z, axis=1, keepdims=True)
     return z / np.where(norm > 0, norm, 1.0)
