@@ -196,3 +196,20 @@ def test_angle_spectrum_feature_names():
     assert AngleSpectrum(3).fit(X).get_feature_names_out().tolist() == [
         "spectrum0", "spectrum1", "spectrum2"
     ]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"n_coeffs": "half"}, "n_coeffs must be a number"),  # was a TypeError
+        ({"weight_power": "x"}, "weight_power must be a finite number"),
+        ({"n_coeffs": 8.0}, None),  # an integral float counts frequencies
+    ],
+)
+def test_transformer_option_types(kwargs, match, rng):
+    X = rng.normal(size=(2, 16))
+    if match is None:
+        assert FourierFeatures(**kwargs).fit(X).n_coeffs_ == 8
+        return
+    with pytest.raises(ValueError, match=match):
+        FourierFeatures(**kwargs).fit(X)

@@ -96,6 +96,32 @@ def check_positive_float(value: object, name: str, *, allow_zero: bool = False) 
     return v
 
 
+def check_finite_float(value: object, name: str) -> float:
+    """A finite real number (not bool) of any sign."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
+        raise InputError(f"{name} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def check_frequency_count(value: object, top: int, name: str, top_text: str) -> int:
+    """How many of ``top`` frequencies to keep: a count, or a fraction of them.
+
+    An integer (or integral float) must lie in ``[1, top]``; any other float is
+    a fraction in (0, 1) of ``top``, rounded, at least 1. ``top_text`` names
+    ``top`` in the error message (e.g. ``"floor(n_joints / 2)"``).
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be a number, got {value!r}")
+    count = value
+    if isinstance(value, float) and not value.is_integer():
+        if not 0 < value < 1:
+            raise InputError(f"a fractional {name} must lie in (0, 1), got {value}")
+        count = max(1, round(value * top))
+    if not 1 <= count <= top:
+        raise InputError(f"{name} must be between 1 and {top_text} = {top}, got {value!r}")
+    return int(count)
+
+
 def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
     """Binary image of shape ``(..., rows, cols)``: bool, or numbers that are all 0 or 1."""
     arr = np.asarray(grid)

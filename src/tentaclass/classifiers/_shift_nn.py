@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_finite_float, check_frequency_count
 from ..errors import InputError
 from ..features import canonical_direction, periodic_signal
 from ..geometry import angles_to_points, resample_closed
@@ -119,25 +118,11 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
 
     def _frequency_weights(self, n: int, complex_signal: bool) -> FloatArray:
         k = np.abs(np.fft.fftfreq(n, 1.0 / n)) if complex_signal else np.arange(n // 2 + 1)
-        top = n // 2
-        p = self.weight_power
-        if isinstance(p, bool) or not isinstance(p, numbers.Real) or not np.isfinite(p):
-            raise InputError(f"weight_power must be a finite number, got {p!r}")
+        w = np.maximum(k, 1.0) ** check_finite_float(self.weight_power, "weight_power")
         if self.n_harmonics is None:
-            return np.maximum(k, 1.0) ** float(p)
-        h = self.n_harmonics
-        if isinstance(h, bool) or not isinstance(h, numbers.Real):
-            raise InputError(f"n_harmonics must be a number, got {self.n_harmonics!r}")
-        if isinstance(h, float) and not float(h).is_integer():
-            if not 0 < h < 1:
-                raise InputError(f"a fractional n_harmonics must lie in (0, 1), got {h}")
-            h = max(1, round(h * top))
-        if not 1 <= h <= top:
-            raise InputError(
-                f"n_harmonics must be between 1 and floor(n_points / 2) = {top}, "
-                f"got {self.n_harmonics!r}"
-            )
-        return np.where(k <= h, np.maximum(k, 1.0) ** float(p), 0.0)
+            return w
+        h = check_frequency_count(self.n_harmonics, n // 2, "n_harmonics", "floor(n_points / 2)")
+        return np.where(k <= h, w, 0.0)
 
     def fit(self, X: ArrayLike, y: ArrayLike) -> ShiftNNClassifier:
         """Store the training signals' spectra.

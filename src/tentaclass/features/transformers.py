@@ -12,6 +12,7 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_finite_float, check_frequency_count, check_positive_int
 from ..errors import InputError
 from .fourier import fourier_features
 from .lap import last_lap
@@ -88,18 +89,8 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
         if n < 3:
             raise InputError(f"X must hold at least 3 joint angles per row, got {n}")
         k = n // 2 if self.n_coeffs is None else self.n_coeffs
-        if isinstance(k, float):
-            if not 0 < k < 1:
-                raise InputError(f"a fractional n_coeffs must lie in (0, 1), got {self.n_coeffs}")
-            k = max(1, round(k * (n // 2)))
-        if not 1 <= k <= n // 2:
-            raise InputError(
-                f"n_coeffs must be between 1 and floor(n_joints / 2) = {n // 2}, "
-                f"got {self.n_coeffs}"
-            )
-        if not np.isfinite(self.weight_power):
-            raise InputError(f"weight_power must be a finite number, got {self.weight_power!r}")
-        self.n_coeffs_ = int(k)
+        self.n_coeffs_ = check_frequency_count(k, n // 2, "n_coeffs", "floor(n_joints / 2)")
+        check_finite_float(self.weight_power, "weight_power")
         return self
 
     def transform(self, X: ArrayLike) -> FloatArray:
@@ -227,9 +218,7 @@ class AngleSpectrum(TransformerMixin, BaseEstimator):
         """
         X = validate_data(self, X, dtype=np.float64)
         top = X.shape[1] // 2 + 1
-        k = top if self.n_coeffs is None else self.n_coeffs
-        if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k:
-            raise InputError(f"n_coeffs must be a positive integer, got {self.n_coeffs!r}")
+        k = top if self.n_coeffs is None else check_positive_int(self.n_coeffs, "n_coeffs")
         if k > top:
             raise InputError(
                 f"n_coeffs must be at most floor(n_joints / 2) + 1 = {top}, got {self.n_coeffs}"
