@@ -74,7 +74,9 @@ def mpeg7(out: Path, ns, modes, noises, folds: int = 10, copies: int = 10, hug_c
             for noise in noises:
                 copies_here = copies if mode == "taut" else hug_copies
                 t0 = time.perf_counter()
-                d = mpeg7_tentacle(MPEG7, n, mode, noise=noise, copies=copies_here, seed=0)
+                d = mpeg7_tentacle(
+                    MPEG7, n, mode, noise=noise, copies=copies_here, seed=0, n_jobs=-1
+                )
                 gen = time.perf_counter() - t0
                 jammed = np.unique(d.groups[~d.complete])  # drop shapes a chain jammed on
                 keep = ~np.isin(d.groups, jammed)

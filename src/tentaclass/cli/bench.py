@@ -15,7 +15,7 @@ DEFAULT_METHODS = "thesis,fourier-1nn,fourier-pnn,shift-nn,1nn-euclidean,svc,min
 
 
 def _load(dataset: str, links: int, mode: str, noise: float, copies: int, samples: int,
-          data_dir: Path | None, seed: int) -> tuple[dict, str]:  # fmt: skip
+          data_dir: Path | None, seed: int, jobs: int = 1) -> tuple[dict, str]:  # fmt: skip
     """Arrays and benchmark keywords for a dataset name, plus a title."""
     from .. import datasets
 
@@ -32,7 +32,8 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
         }, f"synthetic four classes, {links} links, noise {noise:g}"
     if dataset == "mpeg7":
         folder = data_dir or Path("../shared/data/mpeg7-part-b")
-        d = datasets.mpeg7_tentacle(folder, links, mode=mode, noise=noise, copies=copies, seed=seed)
+        d = datasets.mpeg7_tentacle(folder, links, mode=mode, noise=noise, copies=copies,
+                                    seed=seed, n_jobs=jobs)  # fmt: skip
         keep = ~np.isin(d.groups, d.groups[~d.complete])  # drop shapes a chain jammed on
         kw = {"X": d.data[keep], "y": d.target[keep], "groups": d.groups[keep],
               "is_eval": d.wrap_index[keep] == 0}  # fmt: skip
@@ -62,7 +63,10 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path),
               default=Path("bench-results"), show_default=True)  # fmt: skip
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
-def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, seed):
+@click.option("--jobs", type=click.IntRange(min=-1), default=-1, show_default=True,
+              help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
+def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, seed,
+          jobs):  # fmt: skip
     """Stratified k-fold accuracy (or the official split), fit and predict time.
 
     Writes a markdown table and the best method's confusion matrix to OUT.
@@ -74,7 +78,9 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     if unknown:
         raise click.BadParameter(f"unknown {unknown}; choose from {', '.join(METHODS)}",
                                  param_hint="--methods")  # fmt: skip
-    kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed)
+    if jobs == 0:
+        raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
+    kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed, jobs)
     X = kw.pop("X")
     y = kw.pop("y")
     results = run_benchmark(X, y, names, n_splits=folds, seed=seed, progress=True, **kw)

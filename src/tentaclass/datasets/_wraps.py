@@ -181,7 +181,7 @@ def _generator_digest() -> str:
     h = hashlib.sha256()
     for f in sorted(Path(wrapping.__file__).parent.glob("*.py")):
         h.update(f.read_bytes())
-    for func in (_winding, _wrap_both_ways, _one_lap_lengths, _closure_gaps, _one_lap_wraps):
+    for func in (_winding, _wrap_both_ways, _bisect_lengths, _closure_gaps, _one_lap_wraps):
         h.update(inspect.getsource(func).encode())
     return h.hexdigest()[:16]
 
@@ -192,8 +192,25 @@ def _cache_path(key: dict) -> Path:
     return base / f"mpeg7-wraps-{digest}.npz"
 
 
-def _one_lap_lengths(outlines, n_links, starts, cw, mode, iterations=22):
-    """Per wrap, the link length whose last joint lands on the start point (bisection).
+def _one_lap_lengths(outlines, n_links, starts, cw, mode, n_jobs=None, chunk=32):
+    """Per wrap, the link length whose last joint lands on the start point.
+
+    Runs :func:`_bisect_lengths` on chunks of wraps (few enough that their hug
+    surfaces stay cached from one bisection step to the next), in ``n_jobs``
+    processes. The chunks are independent, so the result does not depend on
+    ``n_jobs``.
+    """
+    from joblib import Parallel, delayed
+
+    parts = [slice(i, i + chunk) for i in range(0, len(outlines), chunk)]
+    done = Parallel(n_jobs=n_jobs)(
+        delayed(_bisect_lengths)(outlines[p], n_links, starts[p], cw[p], mode) for p in parts
+    )
+    return np.concatenate(done) if done else np.zeros(0)
+
+
+def _bisect_lengths(outlines, n_links, starts, cw, mode, iterations=22):
+    """Bisection on the link length until the last joint lands on the start point.
 
     The bisection watches how far the joints have wound around a point inside
     the object, which grows steadily with the link length; the heading-based
@@ -227,7 +244,7 @@ def _closure_gaps(angles):
     return np.where(np.all(np.isfinite(angles), axis=1), gap, np.inf)
 
 
-def _one_lap_wraps(outlines, n_links, mode, copies, seed, retries=3, max_gap=0.5):
+def _one_lap_wraps(outlines, n_links, mode, copies, seed, retries=8, max_gap=0.5, n_jobs=None):
     """Noise-free one-lap wraps, copy after copy; NaN rows where a chain jammed.
 
     From some start points no link length closes the lap: the last joint jumps
@@ -247,7 +264,7 @@ def _one_lap_wraps(outlines, n_links, mode, copies, seed, retries=3, max_gap=0.5
     for attempt in range(retries + 1):
         sub = [rows[i] for i in todo]
         st = starts[todo] if attempt == 0 else rng.uniform(0, 1, todo.size)
-        lengths = _one_lap_lengths(sub, n_links, st, cw[todo], mode)
+        lengths = _one_lap_lengths(sub, n_links, st, cw[todo], mode, n_jobs)
         a, _, _, done = _wrap_both_ways(sub, n_links, lengths, st, np.zeros(todo.size), cw[todo],
                                         mode)  # fmt: skip
         a[~done] = np.nan  # the chain jammed (hug mode): no full array
@@ -270,6 +287,7 @@ def mpeg7_tentacle(
     seed: int = 0,
     max_vertices: int = 1000,
     cache: bool = True,
+    n_jobs: int | None = None,
 ) -> Bunch:
     """One-lap tentacle wraps of every MPEG-7 Part B silhouette.
 
@@ -295,6 +313,9 @@ def mpeg7_tentacle(
         Keep the outlines and the noise-free wraps on disk
         (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``): the
         bisection takes a while for 1400 shapes. ``False`` writes nothing.
+    n_jobs : int, optional
+        Processes for the bisection (joblib: None is one, -1 all cores). The
+        wraps do not depend on it.
 
     Returns
     -------
@@ -307,7 +328,7 @@ def mpeg7_tentacle(
         the noise-free chain's last joint ends from its first. From some start
         points no link length closes the lap (in ``"hug"`` mode the last joint
         jumps as the link length crosses the width of a concavity the chain can
-        enter); such wraps are retried from up to three other random start
+        enter); such wraps are retried from up to eight other random start
         points and the best kept, so a few silhouettes keep a gap of a link or
         more.
     """
@@ -324,7 +345,7 @@ def mpeg7_tentacle(
         with np.load(path, allow_pickle=False) as f:
             angles = f["angles"]
     else:
-        angles = _one_lap_wraps(outlines, n_links, mode, copies, seed)
+        angles = _one_lap_wraps(outlines, n_links, mode, copies, seed, n_jobs=n_jobs)
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             np.savez(path, angles=angles)

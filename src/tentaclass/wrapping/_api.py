@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+import shapely
 
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_positive_float, check_positive_int
@@ -83,6 +84,7 @@ def _run(
     for q in np.flatnonzero(approach):
         nin = _inward_normal(surf.curve(0), int(e0[q]), float(t0[q]))
         bases[q] = s0[q] - offsets[q] * nin
+        _check_approach(surf, bases[q], s0[q], offsets[q])
         a = np.arctan2(nin[1], nin[0])
         app_th[q] = a + np.round((app_th[q] - a) / (2 * np.pi)) * 2 * np.pi
     max_search = offsets + surf.max_perimeter + 2 * ls
@@ -97,6 +99,21 @@ def _run(
         "joints": joints, "contact": contact, "lap": lap, "phi": phi, "status": status,
         "placed": placed, "phi_v": phi_v, "start": s0,
     }  # fmt: skip
+
+
+def _check_approach(surf: Surface, base: FloatArray, start: FloatArray, offset: float) -> None:
+    """Refuse a stand-off whose straight approach passes through the object.
+
+    The approach runs along the inward normal at the start point; on a
+    non-convex object a long one can start behind another part of it.
+    """
+    path = shapely.LineString([base, start])
+    inside = shapely.intersection(path, shapely.Polygon(surf.outline)).length
+    if inside > 1e-9 * surf.scale:
+        raise InputError(
+            f"offset {offset:g}: the straight approach to the start point along its normal "
+            "passes through the object; use a smaller offset or another start point"
+        )
 
 
 def _geom_locate(points, curve):
@@ -325,7 +342,8 @@ def wrap(
     InputError
         Bad outline (NaN, fewer than 3 distinct points, zero area,
         self-intersection), ``link_length`` <= 0 or longer than the object's
-        diameter, ``n_links`` < 1, ``start`` outside [0, 1), unknown mode.
+        diameter, ``n_links`` < 1, ``start`` outside [0, 1), unknown mode, an
+        ``offset`` whose approach would pass through the object.
 
     Notes
     -----
