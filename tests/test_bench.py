@@ -6,6 +6,7 @@ from tentaclass.bench import METHODS, confusion_figure, make_method, results_mar
 from tentaclass.bench._runner import _splits
 from tentaclass.cli.main import cli
 from tentaclass.datasets import reference_tentacle
+from tentaclass.errors import InputError
 
 
 def test_run_benchmark_on_reference_shapes():
@@ -64,6 +65,8 @@ def test_bench_cli_bad_method():
         (["--noise", "nan"], "finite"),  # was "X contains 128 NaN or infinite value(s)"
         (["--noise", "inf"], "finite"),
         (["--seed", "-1"], "--seed"),  # was "expected non-negative integer"
+        (["--jobs", "0"], "--jobs"),
+        (["--jobs", "-2"], "--jobs"),
     ],
 )
 def test_bench_cli_bad_options(tmp_path, args, message):
@@ -80,6 +83,22 @@ def test_bench_cli_mpeg7_missing_folder(tmp_path):
     )  # fmt: skip
     assert r.exit_code == 1 and "does not exist" in r.output
     assert len(r.output.strip().splitlines()) == 1
+
+
+def test_bench_cli_passes_jobs_to_the_generator(tmp_path, monkeypatch):
+    import tentaclass.datasets
+
+    seen = {}
+
+    def fake(folder, links, **kw):
+        seen.update(kw)
+        raise InputError("stop here")
+
+    monkeypatch.setattr(tentaclass.datasets, "mpeg7_tentacle", fake)
+    r = CliRunner().invoke(cli, ["bench", "--dataset", "mpeg7", "--jobs", "2", "--methods",
+                                 "thesis", "--out", str(tmp_path / "out")])  # fmt: skip
+    assert r.exit_code == 1 and "stop here" in r.output
+    assert seen["n_jobs"] == 2
 
 
 def test_bench_cli_ucr_without_aeon_names_the_data_set(tmp_path, monkeypatch):
