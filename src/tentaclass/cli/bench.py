@@ -63,7 +63,7 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path),
               default=Path("bench-results"), show_default=True)  # fmt: skip
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
-@click.option("--jobs", type=click.IntRange(min=-1), default=-1, show_default=True,
+@click.option("--jobs", type=click.IntRange(min=-1), default=1, show_default=True,
               help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
 def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, seed,
           jobs):  # fmt: skip

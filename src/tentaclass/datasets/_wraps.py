@@ -314,8 +314,9 @@ def mpeg7_tentacle(
         (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``): the
         bisection takes a while for 1400 shapes. ``False`` writes nothing.
     n_jobs : int, optional
-        Processes for the bisection (joblib: None is one, -1 all cores). The
-        wraps do not depend on it.
+        Processes for the bisection, as in joblib: -1 all cores, None one
+        (unless a ``joblib.parallel_config`` block says otherwise). The wraps
+        do not depend on it.
 
     Returns
     -------

@@ -62,6 +62,7 @@ def _run(
     starts: FloatArray,
     offsets: FloatArray,
     mirror: bool,
+    index: np.ndarray | None = None,
 ) -> dict:
     b = len(ls)
     c_count = len(surf.off) - 1
@@ -84,9 +85,9 @@ def _run(
     for q in np.flatnonzero(approach):
         nin = _inward_normal(surf.curve(0), int(e0[q]), float(t0[q]))
         bases[q] = s0[q] - offsets[q] * nin
-        _check_approach(surf, bases[q], s0[q], offsets[q])
         a = np.arctan2(nin[1], nin[0])
         app_th[q] = a + np.round((app_th[q] - a) / (2 * np.pi)) * 2 * np.pi
+    _check_approaches(surf, bases, s0, offsets, index, mirror)
     max_search = offsets + surf.max_perimeter + 2 * ls
     check = 3 if surf.mode == "hug" else 2
     eps = 1e-12 * surf.scale * surf.scale
@@ -101,19 +102,43 @@ def _run(
     }  # fmt: skip
 
 
-def _check_approach(surf: Surface, base: FloatArray, start: FloatArray, offset: float) -> None:
+def _check_approaches(
+    surf: Surface,
+    bases: FloatArray,
+    starts: FloatArray,
+    offsets: FloatArray,
+    index: np.ndarray | None,
+    mirror: bool,
+) -> None:
     """Refuse a stand-off whose straight approach passes through the object.
 
-    The approach runs along the inward normal at the start point; on a
+    The approach runs along the outward normal at the start point; on a
     non-convex object a long one can start behind another part of it.
     """
-    path = shapely.LineString([base, start])
-    inside = shapely.intersection(path, shapely.Polygon(surf.outline)).length
-    if inside > 1e-9 * surf.scale:
-        raise InputError(
-            f"offset {offset:g}: the straight approach to the start point along its normal "
-            "passes through the object; use a smaller offset or another start point"
-        )
+    rows = np.flatnonzero(offsets > 0)
+    if rows.size == 0:
+        return
+    paths = shapely.linestrings(np.stack([bases[rows], starts[rows]], axis=1))
+    body = shapely.Polygon(surf.outline)
+    shapely.prepare(body)
+    tol = 1e-9 * surf.scale  # the start point itself may sit a rounding error inside
+    meet = np.flatnonzero(shapely.relate_pattern(paths, body, "T********"))  # interiors
+    lengths = shapely.length(shapely.intersection(paths[meet], body))
+    inside = meet[lengths > tol]
+    if inside.size == 0:
+        return
+    k = int(inside[0])
+    q = rows[k]
+    pieces = shapely.get_parts(shapely.intersection(paths[k], body))
+    pieces = pieces[shapely.length(pieces) > tol]
+    reach = float(shapely.distance(shapely.points(starts[q]), pieces).min())
+    x, y = starts[q] * ([-1.0, 1.0] if mirror else 1.0)
+    which = f" (wrap {int(index[q])})" if index is not None else ""
+    raise InputError(
+        f"offset {offsets[q]:g}{which}: the straight approach to the start point "
+        f"({x:.4g}, {y:.4g}) along its normal passes through the object after "
+        f"{reach:.4g}; use a smaller offset or another start point"
+    )
 
 
 def _geom_locate(points, curve):
@@ -218,7 +243,7 @@ def wrap_many(
                 f"{surf.diameter:g}: a link must fit between two points of the outline "
                 f"(use link_length <= {surf.diameter:g})"
             )
-        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror)
+        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror, rows if b > 1 else None)
         for key, val in res.items():
             out[key][rows] = val
         e0, _, _ = _geom_locate(res["start"], np.ascontiguousarray(surf.curve(0)))

@@ -93,8 +93,8 @@ def _distance_to_outline(points: FloatArray, outline: FloatArray) -> FloatArray:
     tree = shapely.STRtree(edges)
     (which, _), dist = tree.query_nearest(shapely.points(points), return_distance=True,
                                           all_matches=False)  # fmt: skip
-    out = np.empty(len(points))
-    out[which] = dist
+    out = np.full(len(points), np.inf)
+    out[which] = dist  # every point has a nearest edge: the outline has >= 3
     return out
 
 
