@@ -66,8 +66,8 @@ def mpeg7(out: Path, ns, modes, noises, folds: int = 10, copies: int = 10, hug_c
           peers=PEERS) -> None:  # fmt: skip
     """MPEG-7 one-lap wraps; methods train on ``copies`` wraps per training shape.
 
-    Hug wraps take about 30 minutes per copy of the 1400 silhouettes, so hug
-    settings use ``hug_copies``.
+    Hug wraps take about 10 minutes per copy of the 1400 silhouettes on two
+    cores, so hug settings use their own ``hug_copies``.
     """
     for mode in modes:
         for n in ns:

@@ -62,8 +62,8 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         spreads evenly. ``"chord"``: close the polygon with the straight gap
         from the last joint to the first and resample it to equal arc lengths -
         right for clean encoders on a chain that stopped short of, or ran past,
-        its start (hugging wraps: 91.7 % against 84.3 % on MPEG-7, but 58 %
-        against 82 % with 0.05 rad noise).
+        its start (the best on clean hugging MPEG-7 wraps, far worse than
+        ``"spread"`` with joint noise; BENCHMARKS.md).
 
     Attributes
     ----------

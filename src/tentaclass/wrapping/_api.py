@@ -123,13 +123,12 @@ def _check_approaches(
     shapely.prepare(body)
     tol = 1e-9 * surf.scale  # the start point itself may sit a rounding error inside
     meet = np.flatnonzero(shapely.relate_pattern(paths, body, "T********"))  # interiors
-    lengths = shapely.length(shapely.intersection(paths[meet], body))
-    inside = meet[lengths > tol]
+    inter = shapely.intersection(paths[meet], body)
+    inside = np.flatnonzero(shapely.length(inter) > tol)
     if inside.size == 0:
         return
-    k = int(inside[0])
-    q = rows[k]
-    pieces = shapely.get_parts(shapely.intersection(paths[k], body))
+    q = rows[meet[inside[0]]]
+    pieces = shapely.get_parts(inter[inside[0]])
     pieces = pieces[shapely.length(pieces) > tol]
     reach = float(shapely.distance(shapely.points(starts[q]), pieces).min())
     x, y = starts[q] * ([-1.0, 1.0] if mirror else 1.0)
