@@ -17,7 +17,7 @@ from .shapes import as_outline
 from .wrapping import wrap, wrap_many
 from .wrapping._surface import build_surface
 
-__all__ = ["capture_error", "closing_link_length", "max_link_length"]
+__all__ = ["capture_error", "closing_link_length", "link_length_for_laps", "max_link_length"]
 
 
 def _diameter(outline: np.ndarray) -> float:
@@ -162,3 +162,53 @@ def closing_link_length(
             break
     w = wrap(p, n, hi, start=start, direction=direction, mode=mode)
     return hi, float(np.hypot(*(w.joints[-1] - w.joints[0])))
+
+
+def link_length_for_laps(
+    outline: ArrayLike,
+    n_links: int,
+    laps: float,
+    *,
+    start: float = 0.0,
+    direction: str = "ccw",
+    mode: str = "taut",
+    offset: float = 0.0,
+) -> float:
+    """Link length with which ``n_links`` links wrap about ``laps`` laps after the approach.
+
+    ``(n_links - approach) / laps`` links close one lap (:func:`closing_link_length`);
+    with a stand-off the approach takes ``ceil(offset / l)`` links, so the length
+    is found twice.
+
+    Parameters
+    ----------
+    outline : array_like of shape (n_points, 2)
+    n_links : int
+    laps : float
+        Laps to wrap, > 0; at most ``n_links / 2`` (two links per lap).
+    start, direction, mode, offset
+        As in :func:`tentaclass.wrap`.
+
+    Returns
+    -------
+    link_length : float
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import square
+    >>> round(link_length_for_laps(square(4), 32, 2.0), 9)
+    1.0
+    """
+    n = check_positive_int(n_links, "n_links", minimum=2)
+    laps = check_positive_float(laps, "laps")
+    if n / laps < 2:
+        raise InputError(
+            f"laps: {n} links cannot close {laps:g} laps (at most {n / 2:g}: 2 links per lap)"
+        )
+    offset = check_positive_float(offset, "offset", allow_zero=True)
+    args = {"start": start, "direction": direction, "mode": mode}
+    ln = closing_link_length(outline, max(2, round(n / laps)), **args)[0]
+    if offset > 0:
+        wrapping = n - int(np.ceil(offset / ln))
+        ln = closing_link_length(outline, max(2, round(wrapping / laps)), **args)[0]
+    return ln

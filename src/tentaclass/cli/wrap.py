@@ -51,22 +51,6 @@ def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Pa
             "triangle": lambda s: shapes.triangle(side=s)}[shape](dims[0])  # fmt: skip
 
 
-def _length_for_laps(outline, links, laps, **kw) -> float:
-    """Link length with which the links after the approach wrap ``laps`` laps.
-
-    ``(links - approach) / laps`` links close one lap (``closing_link_length``);
-    the approach takes ``ceil(offset / l)`` links, so the length is found twice.
-    """
-    from ..sampling import closing_link_length
-
-    args = {k: kw[k] for k in ("start", "direction", "mode")}
-    ln = closing_link_length(outline, max(2, round(links / laps)), **args)[0]
-    if kw.get("offset", 0) > 0:
-        wrapping = links - int(np.ceil(kw["offset"] / ln))
-        ln = closing_link_length(outline, max(2, round(wrapping / laps)), **args)[0]
-    return ln
-
-
 @click.command()
 @click.option("--shape", type=click.Choice(["circle", "square", "rectangle", "triangle",
               "polygon"]), help="Primitive object (default square).")  # fmt: skip
@@ -109,6 +93,7 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
     them, followed by the grasp state read back from the angles alone.
     """
     from ..grasp import grasp_state
+    from ..sampling import link_length_for_laps
     from ..wrapping import wrap as do_wrap
 
     try:
@@ -124,7 +109,9 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
                     "2 links per lap)",
                     param_hint="--laps",
                 )
-            link_length = _length_for_laps(outline, links, laps, **kw)
+            link_length = link_length_for_laps(
+                outline, links, laps, start=start, direction=direction, mode=mode, offset=offset
+            )
         elif link_length is None:
             link_length = 1.0
         w = do_wrap(outline, links, link_length, noise=noise, seed=seed, **kw)

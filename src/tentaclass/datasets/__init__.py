@@ -1,12 +1,16 @@
-"""Built-in and generated data: the thesis's arrays and grids, wraps of shapes, UCR outlines."""
+"""Built-in and generated data: the thesis's arrays and grids, wraps of shapes, drawn strokes,
+UCR outlines."""
 
+from ._drawn import DRAWN_CLASSES, drawn_shapes
 from ._thesis import THESIS_CLASSES, reference_tentacle, thesis_scanner, thesis_tentacle
 from ._ucr import UCR_SHAPES, ucr_shapes
 from ._wraps import mpeg7_tentacle, synthetic_tentacle
 
 __all__ = [
+    "DRAWN_CLASSES",
     "THESIS_CLASSES",
     "UCR_SHAPES",
+    "drawn_shapes",
     "mpeg7_tentacle",
     "reference_tentacle",
     "synthetic_tentacle",

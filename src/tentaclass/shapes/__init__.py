@@ -1,10 +1,12 @@
-"""Object outlines: primitives, polygons and image silhouettes (MPEG-7).
+"""Object outlines: primitives, polygons, image silhouettes (MPEG-7) and
+hand-drawn strokes.
 
 Every outline is a closed, simple, counter-clockwise polygon as an
 ``(n_points, 2)`` float array, the first point not repeated at the end.
 """
 
 from ._images import from_mask, load_mpeg7, read_silhouette
+from ._stroke import from_stroke
 from ._outline import (
     as_outline,
     circle,
@@ -20,6 +22,7 @@ __all__ = [
     "as_outline",
     "circle",
     "from_mask",
+    "from_stroke",
     "load_mpeg7",
     "polygon",
     "read_silhouette",
