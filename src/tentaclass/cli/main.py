@@ -53,10 +53,11 @@ def _register() -> None:
     from .classify import classify
     from .demo import demo
     from .scan import scan
+    from .serve import serve
     from .train import train
     from .wrap import wrap
 
-    for command in (bench, classify, demo, scan, train, wrap):
+    for command in (bench, classify, demo, scan, serve, train, wrap):
         cli.add_command(command)
 
 

@@ -1,0 +1,47 @@
+"""``tentaclass serve``: the drawing page and its JSON API on a local web server."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+
+@click.command()
+@click.option("--host", default="127.0.0.1", show_default=True,
+              help="Address to listen on (127.0.0.1: this computer only).")  # fmt: skip
+@click.option("--port", type=click.IntRange(0, 65535), default=8000, show_default=True)
+@click.option("--data-dir", type=click.Path(file_okay=False, path_type=Path),
+              help="Where taught shapes and the model file are kept (default: in memory).")  # fmt: skip
+def serve(host: str, port: int, data_dir: Path | None) -> None:
+    """Serve the page to draw objects, wrap a tentacle around them and name them.
+
+    Open the printed address in a browser; the JSON API is documented at /docs.
+    Needs the web extra: pip install 'tentaclass[web]'.
+    """
+    try:
+        import uvicorn
+
+        from ..web import create_app
+    except ImportError:
+        raise click.ClickException(
+            "the web page needs the 'web' extra: pip install 'tentaclass[web]'"
+        ) from None
+    app = create_app(data_dir)
+    config = uvicorn.Config(app, host=host, port=port, log_level="warning")
+    server = uvicorn.Server(config)
+    shown = f"[{host}]" if ":" in host else host
+
+    original = server.startup
+
+    async def startup(sockets=None):
+        await original(sockets=sockets)
+        if server.started:
+            bound = port
+            for s in server.servers:
+                for sock in s.sockets:
+                    bound = sock.getsockname()[1]
+            click.echo(f"tentaclass serving on http://{shown}:{bound}/ (API docs at /docs)")
+
+    server.startup = startup
+    server.run()

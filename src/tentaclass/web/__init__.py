@@ -1,0 +1,30 @@
+"""``tentaclass serve``: a page to draw objects, wrap a tentacle around them and name them.
+
+:func:`create_app` needs the optional ``web`` extra (FastAPI, uvicorn):
+``pip install 'tentaclass[web]'``. :class:`Recognizer`, the model behind the
+page, needs only the library.
+"""
+
+from ._recognizer import MIN_EXAMPLES, N_LINKS, Answer, Recognizer, build_model, outline_angles
+
+__all__ = [
+    "MIN_EXAMPLES",
+    "N_LINKS",
+    "Answer",
+    "Recognizer",
+    "build_model",
+    "create_app",
+    "outline_angles",
+]
+
+
+def __getattr__(name: str):
+    if name == "create_app":
+        try:
+            from ._app import create_app
+        except ImportError as exc:  # pragma: no cover - depends on the environment
+            raise ImportError(
+                "the web page needs the 'web' extra: pip install 'tentaclass[web]'"
+            ) from exc
+        return create_app
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
