@@ -145,11 +145,15 @@ def closing_link_length(
         closed = np.hypot(*(w.joints[-1] - w.start_point)) <= 1e-9 * d
         return 1.0 if closed or w.lap.max() >= 1 else 0.0
 
-    # n links of length l advance at least n * l along the support: > 1 lap at P / n.
+    # n links of length l advance about n * l along the support: about 1 lap at P / n.
+    # Chords are shorter than the arcs they span (much so on wobbly outlines), so
+    # the upper bound grows until the chain closes, up to the diameter.
     hi = min(1.001 * per / n, d)
     lo = per / (4 * n)
-    if laps(hi) < 1:
-        raise InputError(f"{n} links cannot wrap this outline once (too few links)")
+    while laps(hi) < 1:
+        if hi >= d:
+            raise InputError(f"{n} links cannot wrap this outline once (too few links)")
+        lo, hi = hi, min(1.1 * hi, d)
     while laps(lo) >= 1 and lo > 1e-9 * d:
         lo /= 2
     for _ in range(200):

@@ -42,15 +42,20 @@ def _closure(q: FloatArray) -> tuple[int, int]:
     return int(i), int(m - k + j)
 
 
-def _main_loop(c: FloatArray) -> FloatArray:
+def _main_loop(c: FloatArray, extent: float) -> FloatArray:
     """The closed curve itself, or its dominant loop when it crosses itself only a little."""
+    tiny = 1e-6 * extent * extent
     ring = shapely.LinearRing(c)
     if ring.is_simple:
+        if shapely.Polygon(c).area <= tiny:
+            raise InputError("stroke encloses no area: draw a closed outline, not a line")
         return c
     pieces = shapely.get_parts(shapely.get_parts(shapely.make_valid(shapely.Polygon(c))))
     parts = [g for g in pieces if isinstance(g, shapely.Polygon) and g.area > 0]
     areas = np.array([g.area for g in parts])
-    if len(parts) == 0 or areas.max() < _MAIN_LOOP_SHARE * areas.sum():
+    if len(parts) == 0 or areas.sum() <= tiny:
+        raise InputError("stroke encloses no area: draw a closed outline, not a line")
+    if areas.max() < _MAIN_LOOP_SHARE * areas.sum():
         raise InputError(
             "stroke crosses itself (like a figure eight): draw one outline that does not "
             "cross itself"
@@ -134,11 +139,11 @@ def from_stroke(points: ArrayLike, n_points: int = 128, *, smoothing: float = 0.
     q = _arc_resample(p, _N_WORK)
     i, j = _closure(q)
     c = q[i : j + 1]
-    if len(c) < 3 or shapely.Polygon(c).area <= 1e-6 * extent * extent:
+    if len(c) < 3:
         raise InputError("stroke encloses no area: draw a closed outline, not a line")
-    c = _main_loop(c)
+    c = _main_loop(c, extent)
     c = resample_closed(c, _N_WORK)
     if smoothing > 0:
         c = gaussian_filter1d(c, smoothing * _N_WORK, axis=0, mode="wrap")
-    c = _main_loop(c)
+    c = _main_loop(c, extent)
     return as_outline(resample_closed(c, n_points), "stroke outline")

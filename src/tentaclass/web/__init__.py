@@ -5,11 +5,20 @@
 page, needs only the library.
 """
 
-from ._recognizer import MIN_EXAMPLES, N_LINKS, Answer, Recognizer, build_model, outline_angles
+from ._recognizer import (
+    MIN_EXAMPLES,
+    N_LINKS,
+    OUTLINE_POINTS,
+    Answer,
+    Recognizer,
+    build_model,
+    outline_angles,
+)
 
 __all__ = [
     "MIN_EXAMPLES",
     "N_LINKS",
+    "OUTLINE_POINTS",
     "Answer",
     "Recognizer",
     "build_model",

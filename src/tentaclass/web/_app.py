@@ -20,7 +20,13 @@ from .. import __version__, angles_to_points, grasp_state, resample_closed, wrap
 from ..errors import InputError
 from ..sampling import link_length_for_laps
 from ..shapes import as_outline, from_mask, from_stroke
-from ._recognizer import MIN_EXAMPLES, NameTakenError, Recognizer, UnknownShapeError
+from ._recognizer import (
+    MIN_EXAMPLES,
+    OUTLINE_POINTS,
+    NameTakenError,
+    Recognizer,
+    UnknownShapeError,
+)
 
 __all__ = ["MAX_POINTS", "MAX_UPLOAD_BYTES", "create_app"]
 
@@ -37,8 +43,6 @@ MAX_JOINTS = 5_000
 MAX_ROWS = 100
 #: Most pixels in an uploaded image.
 MAX_PIXELS = 4_000_000
-#: Points of the outlines the page shows and wraps.
-N_OUTLINE = 256
 
 Points = list[Annotated[list[float], Field(min_length=2, max_length=2)]]
 
@@ -61,7 +65,7 @@ class ShapeIn(BaseModel):
 
     def to_outline(self) -> np.ndarray:
         if self.stroke is not None:
-            return from_stroke(self.stroke, N_OUTLINE)
+            return from_stroke(self.stroke, OUTLINE_POINTS)
         return as_outline(self.outline, "outline")
 
 
@@ -261,10 +265,13 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
             where = ".".join(str(x) for x in e.get("loc", ()) if x not in ("body",))
             msg = str(e.get("msg", "invalid")).removeprefix("Value error, ")
             parts.append(f"{where}: {msg}" if where else msg)
+        errors = [
+            {"loc": [str(x) for x in e.get("loc", ())], "msg": str(e.get("msg")),
+             "type": str(e.get("type"))}
+            for e in exc.errors()[:10]
+        ]  # fmt: skip
         return JSONResponse(
-            {"detail": "; ".join(parts) or "invalid request", "errors": exc.errors()[:10]},
-            status_code=422,
-            headers=None,
+            {"detail": "; ".join(parts) or "invalid request", "errors": errors}, status_code=422
         )
 
     @app.exception_handler(InputError)
@@ -298,7 +305,7 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
     def api_outline_image(file: Annotated[UploadFile, File(description="PNG silhouette")]) -> dict:
         """Outline of the largest object in a PNG silhouette, at most 2 MB."""
         mask = _image_mask(_read_limited(file))
-        outline = resample_closed(from_mask(mask), N_OUTLINE)
+        outline = resample_closed(from_mask(mask), OUTLINE_POINTS)
         return {"outline": outline.tolist(), "size": list(mask.shape[::-1])}
 
     @app.post("/api/classify", summary="Recognise a drawn stroke or an outline")

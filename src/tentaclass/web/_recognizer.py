@@ -20,6 +20,7 @@ from ..shapes import from_stroke
 __all__ = [
     "MIN_EXAMPLES",
     "N_LINKS",
+    "OUTLINE_POINTS",
     "Answer",
     "Recognizer",
     "build_model",
@@ -29,6 +30,8 @@ __all__ = [
 #: Links of the recognition chain: a closed chain of equal links whose joints lie
 #: on the outline (one lap), the array every answer is computed from.
 N_LINKS = 64
+#: Points of the outline a stroke is cleaned to (:func:`~tentaclass.shapes.from_stroke`).
+OUTLINE_POINTS = 256
 #: Fewest examples a new shape is taught with.
 MIN_EXAMPLES = 3
 #: Noisy copies made of each taught example (jittered and thinned strokes).
@@ -126,7 +129,7 @@ class Recognizer:
         self.data_dir = None if data_dir is None else Path(data_dir)
         self._lock = threading.RLock()
         base = drawn_shapes(n_per_class, seed=seed)
-        self._base_X = np.array([outline_angles(from_stroke(s)) for s in base.strokes])
+        self._base_X = np.array([outline_angles(from_stroke(s, OUTLINE_POINTS)) for s in base.strokes])
         self._base_y = base.target.astype(object)
         self.builtin = tuple(dict.fromkeys(base.target.tolist()))
         self._taught: dict[str, list[list[list[float]]]] = {}
@@ -178,10 +181,10 @@ class Recognizer:
         for k, s in enumerate(strokes):
             try:
                 stroke = np.asarray(s, dtype=float)
-                from_stroke(stroke)
+                from_stroke(stroke, OUTLINE_POINTS)
             except (InputError, ValueError, TypeError) as exc:
                 raise InputError(f"example {k + 1} of {name!r}: {exc}") from None
-            rows += [outline_angles(from_stroke(c)) for c in _augment(stroke, rng)]
+            rows += [outline_angles(from_stroke(c, OUTLINE_POINTS)) for c in _augment(stroke, rng)]
         return np.array(rows)
 
     # --------------------------------------------------------------- teaching
@@ -248,7 +251,7 @@ class Recognizer:
 
     def classify_stroke(self, stroke: ArrayLike) -> Answer:
         """Answer for a hand-drawn stroke (cleaned by :func:`~tentaclass.shapes.from_stroke`)."""
-        return self.classify_outline(from_stroke(stroke))
+        return self.classify_outline(from_stroke(stroke, OUTLINE_POINTS))
 
     def classify_chain(self, q: ArrayLike, link_lengths: ArrayLike = 1.0) -> tuple[Answer, bool]:
         """Answer for a measured chain's joint angles, from its last closed lap.

@@ -59,7 +59,11 @@ function pointerPoint(e) {
 
 canvas.addEventListener("pointerdown", (e) => {
   e.preventDefault();
-  canvas.setPointerCapture(e.pointerId);
+  try {
+    canvas.setPointerCapture(e.pointerId);
+  } catch (err) {
+    // synthetic pointers (scripts) cannot be captured; drawing still works
+  }
   stopAnimation();
   state.view = identityView();
   state.drawing = true;
@@ -80,7 +84,11 @@ canvas.addEventListener("pointermove", (e) => {
 function endStroke(e) {
   if (!state.drawing) return;
   state.drawing = false;
-  if (canvas.hasPointerCapture(e.pointerId)) canvas.releasePointerCapture(e.pointerId);
+  try {
+    if (canvas.hasPointerCapture(e.pointerId)) canvas.releasePointerCapture(e.pointerId);
+  } catch (err) {
+    // see pointerdown
+  }
   state.source = { stroke: state.stroke };
   recognise();
 }

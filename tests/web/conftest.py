@@ -1,0 +1,8 @@
+import pytest
+
+
+@pytest.fixture(scope="session")
+def recognizer():
+    from tentaclass.web import Recognizer
+
+    return Recognizer()
