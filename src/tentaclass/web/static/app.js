@@ -22,6 +22,23 @@ const state = {
 // Exposed for scripts and tests: the last answers from the server.
 window.tentaclass = { state, last: {} };
 
+// Every user action runs through run(): body[data-actions] counts finished actions,
+// body[data-idle] is "1" when none is running (scripts and tests wait on these).
+let actions = 0;
+let pending = 0;
+async function run(fn) {
+  pending += 1;
+  document.body.dataset.idle = "0";
+  try {
+    await fn();
+  } finally {
+    pending -= 1;
+    actions += 1;
+    document.body.dataset.actions = String(actions);
+    document.body.dataset.idle = pending === 0 ? "1" : "0";
+  }
+}
+
 function message(text) {
   const m = $("message");
   m.textContent = text || "";
@@ -90,7 +107,7 @@ function endStroke(e) {
     // see pointerdown
   }
   state.source = { stroke: state.stroke };
-  recognise();
+  run(recognise);
 }
 canvas.addEventListener("pointerup", endStroke);
 canvas.addEventListener("pointercancel", endStroke);
@@ -170,24 +187,35 @@ function chainSettings() {
 function stopAnimation() {
   if (state.anim) cancelAnimationFrame(state.anim);
   state.anim = null;
+  if (finishAnimation) finishAnimation();
+  finishAnimation = null;
 }
 
+// Show the chain link by link (1.5 s in all by default); resolves when the last link is drawn
+// or the animation is replaced by another.
+let finishAnimation = null;
 function animate(nLinks) {
   stopAnimation();
   canvas.dataset.anim = "running";
   const t0 = performance.now();
-  const perLink = Math.max(8, Math.min(60, 1500 / Math.max(nLinks, 1)));
-  const step = (t) => {
-    state.shownLinks = Math.min(nLinks, Math.floor((t - t0) / perLink) + 1);
-    canvas.dataset.links = String(state.shownLinks);
-    redraw();
-    if (state.shownLinks < nLinks) state.anim = requestAnimationFrame(step);
-    else {
-      state.anim = null;
-      canvas.dataset.anim = "done";
-    }
-  };
-  state.anim = requestAnimationFrame(step);
+  const total = Number($("speed").value);
+  const perLink = total > 0 ? Math.max(4, Math.min(60, total / Math.max(nLinks, 1))) : 0;
+  return new Promise((resolve) => {
+    finishAnimation = resolve;
+    const step = (t) => {
+      state.shownLinks = perLink > 0 ? Math.min(nLinks, Math.floor((t - t0) / perLink) + 1) : nLinks;
+      canvas.dataset.links = String(state.shownLinks);
+      redraw();
+      if (state.shownLinks < nLinks) state.anim = requestAnimationFrame(step);
+      else {
+        state.anim = null;
+        canvas.dataset.anim = "done";
+        finishAnimation = null;
+        resolve();
+      }
+    };
+    state.anim = requestAnimationFrame(step);
+  });
 }
 
 function showChain(angles, joints, grasp) {
@@ -197,29 +225,34 @@ function showChain(angles, joints, grasp) {
   $("grasp").dataset.state = grasp.state;
   $("angles").value = angles.map((a) => a.toFixed(6)).join(", ");
   plotAngles($("angleplot"), angles);
-  animate(joints.length - 1);
+  return animate(joints.length - 1);
 }
 
+// Only the latest wrap request is shown: answers to older ones are dropped.
+let wrapSeq = 0;
 async function wrapChain() {
   if (!state.outline) return;
+  const mine = ++wrapSeq;
   status("wrapping...");
   try {
     const res = await post("/api/wrap", { outline: state.outline, ...chainSettings() });
+    if (mine !== wrapSeq) return;
     window.tentaclass.last.wrap = res;
-    showChain(res.angles, res.joints, res.grasp);
     $("chainanswer").textContent = res.label
       ? `; from the chain's angles: ${res.label}${res.full_lap ? "" : " (no full lap)"}`
       : "";
     status(res.complete ? "" : "the chain stopped early: no next contact");
+    await showChain(res.angles, res.joints, res.grasp);
   } catch (err) {
+    if (mine !== wrapSeq) return;
     message(`cannot wrap: ${err.message}`);
     status("");
   }
 }
 
-$("rewrap").addEventListener("click", () => wrapChain());
+$("rewrap").addEventListener("click", () => run(wrapChain));
 for (const id of ["links", "sizeby", "laps", "linklen", "mode", "offset", "noise"]) {
-  $(id).addEventListener("change", () => wrapChain());
+  $(id).addEventListener("change", () => run(wrapChain));
 }
 
 $("copy").addEventListener("click", async () => {
@@ -233,10 +266,13 @@ $("copy").addEventListener("click", async () => {
 });
 
 // -------------------------------------------------------------- PNG upload
-$("png").addEventListener("change", async (e) => {
+$("png").addEventListener("change", (e) => {
   const file = e.target.files[0];
   e.target.value = "";
-  if (!file) return;
+  if (file) run(() => recogniseImage(file));
+});
+
+async function recogniseImage(file) {
   stopAnimation();
   message("");
   status("reading image...");
@@ -247,11 +283,12 @@ $("png").addEventListener("change", async (e) => {
     state.outline = res.outline;
     state.view = fitView(canvas, [res.outline], 90);
     state.source = { outline: res.outline };
-    await recognise();
   } catch (err) {
     failed(err, "cannot use this image");
+    return;
   }
-});
+  await recognise();
+}
 
 // ----------------------------------------------------------- robot angles
 async function recogniseAngles(text) {
@@ -266,17 +303,17 @@ async function recogniseAngles(text) {
     state.outline = null;
     state.view = fitView(canvas, [c.joints]);
     showAnswer(c);
-    showChain(c.angles, c.joints, c.grasp);
     $("chainanswer").textContent =
       (res.chains.length > 1 ? `; chain 1 of ${res.chains.length}` : "") +
       (c.full_lap ? "" : "; no full lap: the answer is a guess");
     status("");
+    await showChain(c.angles, c.joints, c.grasp);
   } catch (err) {
     failed(err, "cannot use these angles");
   }
 }
 
-$("csvgo").addEventListener("click", () => recogniseAngles($("csv").value));
+$("csvgo").addEventListener("click", () => run(() => recogniseAngles($("csv").value)));
 $("csvfile").addEventListener("change", async (e) => {
   const file = e.target.files[0];
   e.target.value = "";
@@ -286,7 +323,7 @@ $("csvfile").addEventListener("change", async (e) => {
     return;
   }
   $("csv").value = await file.text();
-  recogniseAngles($("csv").value);
+  run(() => recogniseAngles($("csv").value));
 });
 
 // ------------------------------------------------------------------ teach
@@ -305,7 +342,9 @@ $("teachadd").addEventListener("click", () => {
   message("");
 });
 
-$("teachgo").addEventListener("click", async () => {
+$("teachgo").addEventListener("click", () => run(teach));
+
+async function teach() {
   message("");
   try {
     await post("/api/teach", { name: $("teachname").value, strokes: state.examples });
@@ -317,7 +356,7 @@ $("teachgo").addEventListener("click", async () => {
   } catch (err) {
     message(`cannot teach: ${err.message}`);
   }
-});
+}
 
 async function listClasses() {
   const res = await get("/api/classes");
@@ -331,21 +370,28 @@ async function listClasses() {
       const b = document.createElement("button");
       b.type = "button";
       b.textContent = "remove";
-      b.addEventListener("click", async () => {
-        try {
-          await del(`/api/classes/${encodeURIComponent(c.name)}`);
-          await listClasses();
-        } catch (err) {
-          message(`cannot remove: ${err.message}`);
-        }
-      });
+      b.addEventListener("click", () =>
+        run(async () => {
+          try {
+            await del(`/api/classes/${encodeURIComponent(c.name)}`);
+            await listClasses();
+          } catch (err) {
+            message(`cannot remove: ${err.message}`);
+          }
+        }),
+      );
       li.appendChild(b);
     }
     ul.appendChild(li);
   }
 }
 
-listClasses().catch((err) => message(`cannot reach the server: ${err.message}`));
+document.body.dataset.actions = "0";
+document.body.dataset.idle = "1";
 plotAngles($("angleplot"), []);
 redraw();
-canvas.dataset.ready = "1";
+listClasses()
+  .catch((err) => message(`cannot reach the server: ${err.message}`))
+  .finally(() => {
+    canvas.dataset.ready = "1";
+  });
