@@ -1,0 +1,106 @@
+import numpy as np
+import pytest
+import shapely
+
+from tentaclass.datasets import DRAWN_CLASSES, drawn_shapes
+from tentaclass.errors import InputError
+from tentaclass.shapes import from_stroke
+
+
+def test_drawn_shapes_layout_and_seed():
+    d = drawn_shapes(3, seed=4)
+    assert d.target.tolist() == [c for c in DRAWN_CLASSES for _ in range(3)]
+    assert all(s.ndim == 2 and s.shape[1] == 2 and 40 <= len(s) < 200 for s in d.strokes)
+    again = drawn_shapes(3, seed=4)
+    assert all(np.array_equal(a, b) for a, b in zip(d.strokes, again.strokes, strict=True))
+    other = drawn_shapes(3, seed=5)
+    assert not np.array_equal(d.strokes[0], other.strokes[0])
+
+
+def test_drawn_strokes_are_uneven_and_not_closed():
+    d = drawn_shapes(10, seed=1)
+    gaps, spread = [], []
+    for s in d.strokes:
+        step = np.hypot(*np.diff(s, axis=0).T)
+        spread.append(step.max() / np.median(step))
+        gaps.append(np.hypot(*(s[-1] - s[0])) / np.ptp(s, axis=0).max())
+    assert np.median(spread) > 2  # uneven spacing
+    assert min(gaps) > 0  # never exactly closed
+    sizes = [np.ptp(s, axis=0).max() for s in d.strokes]
+    assert min(sizes) < 200 < max(sizes)
+
+
+def test_drawn_shapes_bad_arguments():
+    with pytest.raises(InputError, match="classes"):
+        drawn_shapes(2, classes=("hexagon",))
+    with pytest.raises(InputError, match="seed"):
+        drawn_shapes(2, seed=-1)
+    with pytest.raises(ValueError, match="n_per_class"):
+        drawn_shapes(0)
+
+
+def test_every_drawn_stroke_cleans_to_a_simple_outline():
+    d = drawn_shapes(8, seed=3)
+    for s in d.strokes:
+        out = from_stroke(s, 128)
+        assert out.shape == (128, 2)
+        assert shapely.LinearRing(out).is_simple
+
+
+def test_from_stroke_trims_overshoot_and_closes_gaps():
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    circle = np.stack([np.cos(t), np.sin(t)], axis=1)
+    overshoot = np.concatenate([circle, circle[:60]])  # 15 % past the start
+    gap = circle[:360]  # 10 % short
+    for stroke in (overshoot, gap):
+        out = from_stroke(stroke, 64, smoothing=0)
+        poly = shapely.Polygon(out)
+        assert poly.area == pytest.approx(np.pi, rel=0.03)
+        assert np.allclose(np.hypot(*out.T), 1, atol=0.04) or stroke is gap
+
+
+def test_from_stroke_spacing_is_even_whatever_the_input():
+    rng = np.random.default_rng(0)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 80))
+    out = from_stroke(np.stack([np.cos(t), np.sin(t)], axis=1), 100)
+    step = np.hypot(*(np.roll(out, -1, axis=0) - out).T)
+    assert step.max() / step.min() < 1.05
+
+
+def test_from_stroke_same_outline_under_rotation_and_scale():
+    s = drawn_shapes(1, classes=("arrow",), seed=2).strokes[0]
+    a = 0.7
+    rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    moved = shapely.LinearRing(3 * from_stroke(s, 256) @ rot.T + 5)
+    direct = shapely.LinearRing(from_stroke(3 * s @ rot.T + 5, 256))
+    # the same curve (its points may start elsewhere along it)
+    assert shapely.hausdorff_distance(moved, direct) < 2e-3 * direct.length
+
+
+@pytest.mark.parametrize(
+    ("stroke", "message"),
+    [
+        (np.empty((0, 2)), "empty"),
+        ([[1.0, 1.0]], "1 distinct point"),
+        ([[1.0, 1.0], [1.0, 1.0], [2.0, 2.0]], "2 distinct point"),
+        ([[0, 0], [1, 0], [2, 0], [3, 0]], "no area"),
+        ([[0, 0], [1, np.nan], [2, 0]], "NaN"),
+        ([[0, 0, 0]], "shape"),
+        ("abc", "numbers"),
+    ],
+)
+def test_from_stroke_refuses(stroke, message):
+    with pytest.raises(InputError, match=message):
+        from_stroke(stroke)
+
+
+def test_from_stroke_refuses_a_figure_eight_but_keeps_a_small_loop():
+    t = np.linspace(0, 2 * np.pi, 200)
+    eight = np.stack([np.sin(t), np.sin(2 * t) / 2], axis=1)
+    with pytest.raises(InputError, match="crosses itself"):
+        from_stroke(eight)
+    # a circle whose end curls into a small loop inside it
+    circle = np.stack([np.cos(t), np.sin(t)], axis=1)
+    curl = np.array([[1.0, 0.0], [0.9, 0.1], [0.85, -0.05], [0.95, -0.1]])
+    out = from_stroke(np.concatenate([circle, curl]), 64)
+    assert shapely.Polygon(out).area == pytest.approx(np.pi, rel=0.05)
