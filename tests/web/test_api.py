@@ -6,10 +6,11 @@ import pytest
 pytest.importorskip("fastapi")
 pytest.importorskip("httpx")
 
-from fastapi.testclient import TestClient  # noqa: E402
-from PIL import Image, ImageDraw  # noqa: E402
+from _web_helpers import CROSS, figure_eight, hand_drawn
+from fastapi.testclient import TestClient
+from PIL import Image, ImageDraw
 
-from tentaclass import (  # noqa: E402
+from tentaclass import (
     TentacleClassifier,
     angles_to_points,
     grasp_state,
@@ -17,11 +18,9 @@ from tentaclass import (  # noqa: E402
     points_to_angles,
     resample_closed,
 )
-from tentaclass.datasets import DRAWN_CLASSES, drawn_shapes  # noqa: E402
-from tentaclass.shapes import from_stroke, square  # noqa: E402
-from tentaclass.web import N_LINKS, Recognizer, create_app  # noqa: E402
-
-from _web_helpers import CROSS, figure_eight, hand_drawn  # noqa: E402
+from tentaclass.datasets import DRAWN_CLASSES, drawn_shapes
+from tentaclass.shapes import from_stroke, square
+from tentaclass.web import N_LINKS, Recognizer, create_app
 
 
 @pytest.fixture(scope="module")
@@ -152,7 +151,9 @@ def _png(draw_star=True, size=(200, 200)):
     if draw_star:
         t = np.pi / 2 + np.arange(10) * np.pi / 5
         r = np.where(np.arange(10) % 2 == 0, 80, 35)
-        ImageDraw.Draw(im).polygon(list(zip(100 + r * np.cos(t), 100 - r * np.sin(t))), fill=0)
+        ImageDraw.Draw(im).polygon(
+            list(zip(100 + r * np.cos(t), 100 - r * np.sin(t), strict=True)), fill=0
+        )
     buf = io.BytesIO()
     im.save(buf, format="PNG")
     return buf.getvalue()
@@ -227,7 +228,7 @@ def test_bad_csv_file(client):
 
 
 def test_teach_recognise_save_remove(fresh):
-    client, rec, folder = fresh
+    client, _, folder = fresh
     strokes = [hand_drawn(CROSS, seed=s).tolist() for s in range(3)]
     r = client.post("/api/teach", json={"name": "cross", "strokes": strokes[:1]})
     assert r.status_code == 400 and "at least 3" in r.json()["detail"]

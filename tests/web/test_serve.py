@@ -29,7 +29,9 @@ def test_serve_prints_its_address_and_answers(tmp_path):
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, text=True)
     try:
         line = proc.stdout.readline()
-        match = re.fullmatch(r"tentaclass serving on http://127\.0\.0\.1:(\d+)/ \(API docs at /docs\)\n", line)
+        match = re.fullmatch(
+            r"tentaclass serving on http://127\.0\.0\.1:(\d+)/ \(API docs at /docs\)\n", line
+        )
         assert match, (line, (tmp_path / "err.log").read_text()[-2000:])
         base = f"http://127.0.0.1:{match.group(1)}"
         body = httpx.get(base + "/api/classes", timeout=30).json()

@@ -12,7 +12,7 @@ import click
               help="Address to listen on (127.0.0.1: this computer only).")  # fmt: skip
 @click.option("--port", type=click.IntRange(0, 65535), default=8000, show_default=True)
 @click.option("--data-dir", type=click.Path(file_okay=False, path_type=Path),
-              help="Where taught shapes and the model file are kept (default: in memory).")  # fmt: skip
+              help="Folder for taught shapes and the model file (default: in memory).")  # fmt: skip
 def serve(host: str, port: int, data_dir: Path | None) -> None:
     """Serve the page to draw objects, wrap a tentacle around them and name them.
 

@@ -1,5 +1,4 @@
-"""Built-in and generated data: the thesis's arrays and grids, wraps of shapes, drawn strokes,
-UCR outlines."""
+"""Built-in and generated data: thesis arrays and grids, wraps, drawn strokes, UCR outlines."""
 
 from ._drawn import DRAWN_CLASSES, drawn_shapes
 from ._thesis import THESIS_CLASSES, reference_tentacle, thesis_scanner, thesis_tentacle

@@ -58,7 +58,11 @@ def _template(cls: str, rng: np.random.Generator) -> np.ndarray:
         return np.array([(0, 0), (w, 0), (w, ty), (tx, ty), (tx, h), (0, h)], float)
     if cls == "arrow":
         length = rng.uniform(1.6, 2.2)
-        shaft, head_w, head_l = rng.uniform(0.22, 0.32), rng.uniform(0.8, 1.0), rng.uniform(0.5, 0.7)
+        shaft, head_w, head_l = (
+            rng.uniform(0.22, 0.32),
+            rng.uniform(0.8, 1.0),
+            rng.uniform(0.5, 0.7),
+        )
         s, hw, x0 = shaft / 2, head_w / 2, length - head_l
         return np.array(
             [(0, -s), (x0, -s), (x0, -hw), (length, 0), (x0, hw), (x0, s), (0, s)], float

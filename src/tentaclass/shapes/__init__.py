@@ -1,12 +1,10 @@
-"""Object outlines: primitives, polygons, image silhouettes (MPEG-7) and
-hand-drawn strokes.
+"""Object outlines: primitives, polygons, image silhouettes (MPEG-7), hand-drawn strokes.
 
 Every outline is a closed, simple, counter-clockwise polygon as an
 ``(n_points, 2)`` float array, the first point not repeated at the end.
 """
 
 from ._images import from_mask, load_mpeg7, read_silhouette
-from ._stroke import from_stroke
 from ._outline import (
     as_outline,
     circle,
@@ -17,6 +15,7 @@ from ._outline import (
     square,
     triangle,
 )
+from ._stroke import from_stroke
 
 __all__ = [
     "as_outline",

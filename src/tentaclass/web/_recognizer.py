@@ -129,7 +129,9 @@ class Recognizer:
         self.data_dir = None if data_dir is None else Path(data_dir)
         self._lock = threading.RLock()
         base = drawn_shapes(n_per_class, seed=seed)
-        self._base_X = np.array([outline_angles(from_stroke(s, OUTLINE_POINTS)) for s in base.strokes])
+        self._base_X = np.array(
+            [outline_angles(from_stroke(s, OUTLINE_POINTS)) for s in base.strokes]
+        )
         self._base_y = base.target.astype(object)
         self.builtin = tuple(dict.fromkeys(base.target.tolist()))
         self._taught: dict[str, list[list[list[float]]]] = {}
