@@ -92,8 +92,7 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
     The angles are printed space-separated, as `tentaclass classify` reads
     them, followed by the grasp state read back from the angles alone.
     """
-    from ..grasp import grasp_state
-    from ..sampling import link_length_for_laps
+    from ..wrapping import grasp_state, link_length_for_laps
     from ..wrapping import wrap as do_wrap
 
     try:
@@ -122,7 +121,7 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
 
-            from ..plotting_wrap import plot_wrap
+            from ..plot.wrapping import plot_wrap
 
             fig, ax = plt.subplots(figsize=(5, 5))
             plot_wrap(w, outline, ax=ax)

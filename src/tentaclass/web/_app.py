@@ -18,8 +18,8 @@ from pydantic import BaseModel, Field, model_validator
 
 from .. import __version__, angles_to_points, grasp_state, resample_closed, wrap
 from ..errors import InputError
-from ..sampling import link_length_for_laps
 from ..shapes import as_outline, from_mask, from_stroke
+from ..wrapping import link_length_for_laps
 from ._recognizer import (
     MIN_EXAMPLES,
     OUTLINE_POINTS,
