@@ -43,3 +43,11 @@ def test_serve_prints_its_address_and_answers(tmp_path):
         proc.terminate()
         proc.wait(timeout=30)
         proc.stdout.close()
+
+
+def test_serve_without_the_web_extra_says_how_to_get_it(monkeypatch):
+    monkeypatch.setitem(sys.modules, "uvicorn", None)  # import uvicorn -> ImportError
+    result = CliRunner().invoke(cli, ["serve"])
+    assert result.exit_code == 1
+    assert result.output.strip().endswith("pip install 'tentaclass[web]'")
+    assert "Traceback" not in result.output

@@ -276,3 +276,39 @@ def test_page_and_modules_are_served(client):
         r = client.get(f"/static/{name}")
         assert r.status_code == 200
         assert "http://" not in r.text and "https://" not in r.text  # no CDN: works offline
+
+
+def test_bad_requests_do_not_disturb_other_users(fresh):
+    """Many users at once, some sending garbage, one teaching: every good answer is right."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    client, _, _ = fresh
+    good = drawn_shapes(2, seed=21)
+    jobs = [("good", s, c) for s, c in zip(good.strokes, good.target, strict=True)]
+    bad_bodies = [{"stroke": []}, {"stroke": figure_eight().tolist()}, {"outline": [[0, 0]] * 3}]
+    jobs += [("bad", b, None) for b in bad_bodies * 4]
+    jobs.append(("teach", [hand_drawn(CROSS, seed=s).tolist() for s in range(3)], "cross"))
+
+    def run(job):
+        kind, payload, cls = job
+        if kind == "good":
+            r = client.post("/api/classify", json={"stroke": _world(payload)})
+            return r.status_code == 200 and r.json()["label"] == cls
+        if kind == "bad":
+            return 400 <= client.post("/api/classify", json=payload).status_code < 500
+        return client.post("/api/teach", json={"name": cls, "strokes": payload}).status_code == 201
+
+    order = np.random.default_rng(0).permutation(len(jobs))
+    with ThreadPoolExecutor(6) as pool:
+        results = list(pool.map(run, [jobs[i] for i in order]))
+    assert all(results)
+
+
+def test_streamed_body_over_the_limit_is_refused(client):
+    def chunks():
+        for _ in range(10):
+            yield bytes(2**20)
+
+    r = client.post("/api/classify", content=chunks(), headers={"content-type": "application/json"})
+    assert r.status_code == 413 and "larger than 8 MB" in r.json()["detail"]
+    assert client.get("/api/classes").status_code == 200

@@ -195,6 +195,47 @@ class _TooLarge(InputError):
     pass
 
 
+class _BodyLimit:
+    """Refuse request bodies over ``limit`` bytes, by Content-Length or as they stream in.
+
+    The body is read here (at most ``limit`` bytes are held) and handed on in one piece.
+    """
+
+    def __init__(self, app, limit: int):
+        self.app = app
+        self.limit = limit
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        too_large = _error(413, f"request body larger than {self.limit // 2**20} MB")
+        size = dict(scope.get("headers", ())).get(b"content-length", b"")
+        if size.isdigit() and int(size) > self.limit:
+            return await too_large(scope, receive, send)
+        chunks, seen = [], 0
+        while True:
+            msg = await receive()
+            if msg["type"] != "http.request":  # the client went away
+                return None
+            chunks.append(msg.get("body", b""))
+            seen += len(chunks[-1])
+            if seen > self.limit:
+                return await too_large(scope, receive, send)
+            if not msg.get("more_body", False):
+                break
+        body = b"".join(chunks)
+        sent = False
+
+        async def replay():
+            nonlocal sent
+            if not sent:
+                sent = True
+                return {"type": "http.request", "body": body, "more_body": False}
+            return await receive()
+
+        return await self.app(scope, replay, send)
+
+
 def _image_mask(data: bytes) -> np.ndarray:
     from PIL import Image, UnidentifiedImageError
 
@@ -251,12 +292,7 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
     app.state.recognizer = rec
     static = resources.files("tentaclass.web") / "static"
 
-    @app.middleware("http")
-    async def _limit_body(request: Request, call_next):
-        size = request.headers.get("content-length")
-        if size is not None and size.isdigit() and int(size) > MAX_BODY_BYTES:
-            return _error(413, f"request body larger than {MAX_BODY_BYTES // 2**20} MB")
-        return await call_next(request)
+    app.add_middleware(_BodyLimit, limit=MAX_BODY_BYTES)
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(request: Request, exc: RequestValidationError):
