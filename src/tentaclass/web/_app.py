@@ -72,7 +72,7 @@ class ShapeIn(BaseModel):
 class WrapIn(ShapeIn):
     """A shape and the chain to wrap around it."""
 
-    links: int = Field(32, ge=2, le=1000, description="Links of the chain.")
+    links: int = Field(64, ge=2, le=1000, description="Links of the chain.")
     link_length: float | None = Field(
         None, gt=0, le=10, description="Link length as a fraction of the outline's perimeter."
     )
@@ -320,6 +320,10 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
         elif isinstance(exc, _TooLarge):
             status = 413
         return _error(status, str(exc).splitlines()[0] if str(exc) else "bad input")
+
+    @app.exception_handler(ValueError)
+    async def _bad_value(request: Request, exc: ValueError):
+        return _error(400, str(exc).splitlines()[0] if str(exc) else "bad input")
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):
