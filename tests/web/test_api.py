@@ -312,3 +312,10 @@ def test_streamed_body_over_the_limit_is_refused(client):
     r = client.post("/api/classify", content=chunks(), headers={"content-type": "application/json"})
     assert r.status_code == 413 and "larger than 8 MB" in r.json()["detail"]
     assert client.get("/api/classes").status_code == 200
+
+
+def test_csv_takes_expressions_of_pi_and_comments(client):
+    text = "# a square, 16 links\n" + ", ".join(["0", "0", "0", "pi/2"] * 4)
+    (chain,) = client.post("/api/angles", json={"csv": text}).json()["chains"]
+    assert chain["angles"] == pytest.approx([0, 0, 0, np.pi / 2] * 4)
+    assert chain["label"] == "square" and chain["grasp"]["state"] == "once"

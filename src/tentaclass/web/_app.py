@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import csv
 import io
 import logging
+import re
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Literal
@@ -17,6 +17,7 @@ from fastapi.staticfiles import StaticFiles
 from pydantic import BaseModel, Field, model_validator
 
 from .. import __version__, angles_to_points, grasp_state, resample_closed, wrap
+from ..cli.options import parse_angle_list
 from ..errors import InputError
 from ..shapes import as_outline, from_mask, from_stroke
 from ..wrapping import link_length_for_laps
@@ -43,6 +44,8 @@ MAX_JOINTS = 5_000
 MAX_ROWS = 100
 #: Most pixels in an uploaded image.
 MAX_PIXELS = 4_000_000
+
+_NON_FINITE = re.compile(r"\b(?:nan|inf|infinity)\b", re.IGNORECASE)
 
 Points = list[Annotated[list[float], Field(min_length=2, max_length=2)]]
 
@@ -121,24 +124,27 @@ def _error(status: int, message: str) -> JSONResponse:
 def parse_angles_csv(text: str) -> list[np.ndarray]:
     """Chains of joint angles from CSV text: one per line, or one column for a single chain.
 
-    Raises :class:`~tentaclass.errors.InputError` naming the line and value of
-    anything that is not a finite number.
+    Values are separated by commas, semicolons or white space and may be
+    expressions of pi (``pi/2``), as ``tentaclass classify`` reads them; ``#``
+    starts a comment. Raises :class:`~tentaclass.errors.InputError` naming the
+    line of anything that is not a finite number.
     """
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
-        raise InputError("the CSV holds no joint angles")
-    dialect = "excel-tab" if "\t" in lines[0] and "," not in lines[0] else "excel"
     rows = []
-    for k, cells in enumerate(csv.reader(lines, dialect), start=1):
-        cells = [c for c in (c.strip() for c in cells) for c in c.split() if c]
+    for k, line in enumerate(text.splitlines(), start=1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        if _NON_FINITE.search(line):
+            raise InputError(f"CSV line {k} contains NaN or infinite values")
         try:
-            row = np.array([float(c) for c in cells])
-        except ValueError:
-            bad = next(c for c in cells if not _is_float(c))
-            raise InputError(f"CSV line {k}: {bad!r} is not a number") from None
+            row = parse_angle_list(line)
+        except ValueError as exc:
+            raise InputError(f"CSV line {k}: {exc}") from None
         if not np.all(np.isfinite(row)):
             raise InputError(f"CSV line {k} contains NaN or infinite values")
         rows.append(row)
+    if not rows:
+        raise InputError("the CSV holds no joint angles")
     if all(len(r) == 1 for r in rows):
         rows = [np.concatenate(rows)]
     if len(rows) > MAX_ROWS:
@@ -147,14 +153,6 @@ def parse_angles_csv(text: str) -> list[np.ndarray]:
         if not 3 <= len(r) <= MAX_JOINTS:
             raise InputError(f"chain {k} has {len(r)} joint angles; 3 to {MAX_JOINTS} are needed")
     return rows
-
-
-def _is_float(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def _perimeter(outline: np.ndarray) -> float:
