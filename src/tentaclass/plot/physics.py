@@ -1,0 +1,157 @@
+"""Figures of physical grasps: the final pose with its contacts, and the closing as an animation.
+
+matplotlib is imported lazily; functions take ``ax=None`` (a new figure) and
+return their artists, and never call ``plt.show()``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .._typing import ArrayLike
+from ..shapes import as_outline
+from ..wrapping import Wrap
+
+__all__ = ["animate_grasp", "plot_grasp"]
+
+
+def _axes(ax):
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _, ax = plt.subplots()
+    return ax
+
+
+def _link_width(ax, thickness: float) -> float:
+    """Line width in points that draws a link ``thickness`` wide in data units."""
+    fig = ax.figure
+    fig.canvas.draw_idle()
+    x0, x1 = ax.get_xlim()
+    width_in = ax.get_window_extent().width / fig.dpi
+    return max(0.5, thickness / abs(x1 - x0) * width_in * 72)
+
+
+def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, Any]:
+    """Draw the object and the chain at rest, with its contact points.
+
+    Parameters
+    ----------
+    g : PhysicalGrasp or Wrap
+        A grasp from :func:`tentaclass.physics.grasp` (a plain :class:`Wrap`
+        works too: its contact joints are drawn instead of contact points).
+    outline : array_like of shape (n_points, 2)
+        The object.
+    ax : matplotlib Axes, optional
+    **kwargs
+        Passed to the links' ``plot`` call (e.g. ``color``).
+
+    Returns
+    -------
+    artists : dict
+        ``"object"`` (Polygon patch), ``"links"`` (Line2D), ``"joints"`` and
+        ``"contacts"`` (PathCollection), ``"base"`` (Line2D).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from tentaclass.shapes import square
+    >>> from tentaclass.wrapping import wrap
+    >>> art = plot_grasp(wrap(square(4), 12, 1.0), square(4))
+    >>> sorted(art)
+    ['base', 'contacts', 'joints', 'links', 'object']
+    """
+    from matplotlib.patches import Polygon
+
+    ax = _axes(ax)
+    p = as_outline(outline)
+    art: dict[str, Any] = {}
+    art["object"] = ax.add_patch(Polygon(p, closed=True, fc="0.85", ec="0.3", lw=1))
+    j = np.asarray(g.joints)
+    lo, hi = np.minimum(p.min(0), j.min(0)), np.maximum(p.max(0), j.max(0))
+    pad = 0.08 * float(np.max(hi - lo))
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal")
+    thickness = float(getattr(g, "thickness", 0.0))
+    style = {"color": "tab:blue", "solid_capstyle": "round", "alpha": 0.8}
+    if thickness > 0:
+        style["lw"] = _link_width(ax, thickness)
+    style.update(kwargs)
+    (art["links"],) = ax.plot(j[:, 0], j[:, 1], **style)
+    art["joints"] = ax.scatter(j[:, 0], j[:, 1], s=8, c="k", zorder=3)
+    pts = getattr(g, "contact_points", None)
+    if pts is None or len(pts) == 0:
+        pts = j[np.asarray(g.contact, bool)] if len(j) else np.zeros((0, 2))
+    pts = np.asarray(pts).reshape(-1, 2)
+    art["contacts"] = ax.scatter(pts[:, 0], pts[:, 1], s=22, c="tab:red", marker="x", zorder=4,
+                                 label="contacts")  # fmt: skip
+    (art["base"],) = ax.plot(j[:1, 0], j[:1, 1], "ks", ms=7, zorder=4)
+    return art
+
+
+def animate_grasp(g: Wrap, outline: ArrayLike, ax=None, interval: int = 40, **kwargs: Any):
+    """An animation of the chain closing on the object (``g.frames``).
+
+    Parameters
+    ----------
+    g : PhysicalGrasp
+        A grasp recorded with ``frames > 0``.
+    outline : array_like of shape (n_points, 2)
+    ax : matplotlib Axes, optional
+    interval : int, default=40
+        Milliseconds between frames.
+    **kwargs
+        Passed to the links' ``plot`` call.
+
+    Returns
+    -------
+    animation : matplotlib.animation.FuncAnimation
+        Save it with ``animation.save("grasp.gif", writer="pillow")``.
+
+    Raises
+    ------
+    InputError
+        The grasp has no recorded frames.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from tentaclass import PlanarChain
+    >>> from tentaclass.physics import grasp
+    >>> from tentaclass.shapes import square
+    >>> g = grasp(square(4), PlanarChain([1.0] * 16), frames=20)
+    >>> anim = animate_grasp(g, square(4))
+    >>> len(g.frames) > 2
+    True
+    """
+    from matplotlib.animation import FuncAnimation
+
+    from ..errors import InputError
+
+    frames = np.asarray(getattr(g, "frames", np.zeros((0,))))
+    if frames.ndim != 3 or len(frames) == 0:
+        raise InputError("the grasp has no frames: run grasp(..., frames=k) with k > 0")
+    art = plot_grasp(g, outline, ax=ax, **kwargs)
+    j_all = frames.reshape(-1, 2)
+    ax = art["links"].axes
+    lo, hi = np.minimum(j_all.min(0), ax.get_xlim()[0]), j_all.max(0)
+    p = as_outline(outline)
+    lo, hi = np.minimum(lo, p.min(0)), np.maximum(hi, p.max(0))
+    pad = 0.05 * float(np.max(hi - lo))
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    art["contacts"].set_visible(False)
+
+    def update(i):
+        f = frames[i]
+        art["links"].set_data(f[:, 0], f[:, 1])
+        art["joints"].set_offsets(f)
+        art["contacts"].set_visible(i == len(frames) - 1)
+        return art["links"], art["joints"], art["contacts"]
+
+    return FuncAnimation(ax.figure, update, frames=len(frames), interval=interval, blit=False)
