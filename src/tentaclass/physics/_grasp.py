@@ -19,11 +19,11 @@ from ._model import _mujoco, build_model
 __all__ = ["CurlController", "PhysicalGrasp", "grasp"]
 
 
-#: Time constants (seconds) of the joint servos: braked joints are stiffer than
-#: contacts, the driven joint softer, so a contact stops the driven joint (its
+#: Time constants of the joint servos in time steps: braked joints are as stiff
+#: as contacts, the driven joint softer, so a contact stops the driven joint (its
 #: set point runs ahead: a stall) instead of being pushed through.
-BRAKE_TIME = 0.004
-DRIVE_TIME = 0.02
+BRAKE_STEPS = 2
+DRIVE_STEPS = 10
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,7 @@ class CurlController:
 
     Parameters
     ----------
-    speed : float, default=5.0
+    speed : float, default=20.0
         Tip speed of the turning part, link lengths per second.
     stall_lag : float, default=0.01
         A driven joint this far (radians) behind its set point, and turning at
@@ -73,7 +73,7 @@ class CurlController:
         Simulation steps between two looks of the controller.
     """
 
-    speed: float = 5.0
+    speed: float = 20.0
     stall_lag: float = 0.01
     max_turn: float = 2 * np.pi
     torque: float = 0.0
@@ -172,13 +172,14 @@ def _clear_turn(obj, joint, theta, length, r, step=0.02):
 class _Sim:
     """One grasp in normalised units (mean link length 1)."""
 
-    def __init__(self, chain, outline, pieces, base, heading, q0, first, r, friction, ctrl, rec):
+    def __init__(self, chain, outline, pieces, base, heading, q0, first, r, friction, ctrl, rec,
+                 timestep):  # fmt: skip
         self.mj = _mujoco()
         n = chain.n_links
         colliding = np.arange(n) >= first
         self.cm = build_model(
             chain, outline, base=base, heading=heading, thickness=2 * r, damping=0.0,
-            friction=friction, colliding=colliding, pieces=pieces,
+            friction=friction, colliding=colliding, pieces=pieces, timestep=timestep,
         )  # fmt: skip
         self.m = self.cm.model
         self.d = self.mj.MjData(self.m)
@@ -201,7 +202,8 @@ class _Sim:
         """Hold joint ``i`` at ``target``: a braked joint, or the driven one (softer)."""
         e = self.cm.lock_ids[i]
         self.m.eq_data[e, 0] = target
-        self.m.eq_solref[e] = (DRIVE_TIME, 1.0) if drive else (BRAKE_TIME, 1.0)
+        dt = self.m.opt.timestep
+        self.m.eq_solref[e] = (dt * (DRIVE_STEPS if drive else BRAKE_STEPS), 1.0)
         self.d.eq_active[e] = True
 
     def _levers(self, k: int):
@@ -342,6 +344,7 @@ def grasp(
     time_limit: float | None = None,
     simplify: float = 0.05,
     frames: int = 0,
+    timestep: float = 0.004,
 ) -> PhysicalGrasp:
     """Close a chain on an object in MuJoCo and read its joint angles at rest.
 
@@ -375,6 +378,8 @@ def grasp(
         pieces and no link can feel them.
     frames : int, default=0
         Record the joint positions every ``frames`` controller looks (0: none).
+    timestep : float, default=0.004
+        Simulation step, seconds.
 
     Returns
     -------
@@ -429,6 +434,7 @@ def grasp(
         raise InputError(f"controller must be a CurlController, got {type(ctrl).__name__}")
     friction = check_positive_float(friction, "friction", allow_zero=True)
     simplify = check_positive_float(simplify, "simplify", allow_zero=True)
+    timestep = check_positive_float(timestep, "timestep")
     ln = chain.link_lengths
     s = 1.0 / float(ln.mean())
     thickness = 0.1 / s if thickness is None else check_positive_float(thickness, "thickness")
@@ -515,7 +521,7 @@ def grasp(
         return finish(q, joints, "no straight start pose clears the object from this start "
                       "point", 0.0, 0, np.zeros((0, 2)), np.zeros((0,)))  # fmt: skip
     q0[first] = _wrap_angle(a - heading)
-    sim = _Sim(norm_chain, o, pieces, base, heading, q0, first, r, friction, ctrl, frames)
+    sim = _Sim(norm_chain, o, pieces, base, heading, q0, first, r, friction, ctrl, frames, timestep)
     if time_limit is None:
         time_limit = float(2 * np.sum(ctrl.max_turn / sim.omega[first:]) + ctrl.settle_time)
     else:

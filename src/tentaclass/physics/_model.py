@@ -107,7 +107,9 @@ def chain_mjcf(
         Sliding friction coefficient of every contact (0: frictionless contacts
         that only push along the normal).
     timestep : float, default=0.002
-        Integration step, seconds (implicit-in-velocity Euler).
+        Integration step, seconds (implicit-in-velocity Euler). Contacts and
+        joint locks are stiff springs with time constant ``2 * timestep``
+        (MuJoCo's ``solref``), the stiffest it integrates stably.
     colliding : array_like of bool, shape (n_links,), optional
         Links that can touch anything (default all); the others pass through.
     pieces : list of ndarray, optional
@@ -154,7 +156,7 @@ def chain_mjcf(
         f'  <option timestep="{_f(timestep)}" gravity="0 {_f(-g)} 0" integrator="implicitfast"'
         ' cone="elliptic"/>',
         f'  <default><geom friction="{_f(friction)} 0.005 0.0001" condim="{3 if friction else 1}"'
-        ' solref="0.004 1" solimp="0.99 0.999 0.001"/></default>',
+        f' solref="{_f(2 * timestep)} 1" solimp="0.99 0.999 0.001"/></default>',
     ]
     if outline is not None:
         if pieces is None:
@@ -205,7 +207,7 @@ def chain_mjcf(
     out.append("  <equality>")
     for i in range(n):
         out.append(f'    <joint name="lock{i}" joint1="q{i}" polycoef="0 0 0 0 0" active="false"'
-            ' solref="0.004 1" solimp="0.9999 0.9999 0.001"/>')
+            f' solref="{_f(2 * timestep)} 1" solimp="0.9999 0.9999 0.001"/>')
     out.append("  </equality>")
     out.append("  <actuator>")
     for i in range(n):
