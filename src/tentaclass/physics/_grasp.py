@@ -19,6 +19,8 @@ from ._model import _mujoco, build_model
 __all__ = ["CurlController", "PhysicalGrasp", "grasp"]
 
 
+#: Mass and inertia of a link not yet deployed, relative to its own.
+STOWED_MASS = 1e-6
 #: Time constants of the joint servos in time steps: braked joints are as stiff
 #: as contacts, the driven joint softer, so a contact stops the driven joint (its
 #: set point runs ahead: a stall) instead of being pushed through.
@@ -147,17 +149,6 @@ def _chord_behind(ring: shapely.LinearRing, s: float, ln: float) -> FloatArray:
     return _ring_point(ring, s - hi)
 
 
-def _rest_inertia(chain: PlanarChain) -> tuple[FloatArray, FloatArray]:
-    """Inertia of links k.. about joint k, and their length, for a straight chain."""
-    ln, m, c, inertia = chain.link_lengths, chain.masses, chain.com, chain.inertia
-    start = np.r_[0.0, np.cumsum(ln)[:-1]]
-    com = start + c * ln
-    n = chain.n_links
-    rest = np.array([np.sum(inertia[k:] + m[k:] * (com[k:] - start[k]) ** 2) for k in range(n)])
-    length = np.array([np.sum(ln[k:]) for k in range(n)])
-    return rest, length
-
-
 def _clear_turn(obj, joint, theta, length, r, step=0.02):
     """Smallest clockwise turn from ``theta`` that lets a straight bar clear the object."""
     for k in range(int(np.pi / step) + 1):
@@ -173,30 +164,45 @@ class _Sim:
     """One grasp in normalised units (mean link length 1)."""
 
     def __init__(self, chain, outline, pieces, base, heading, q0, first, r, friction, ctrl, rec,
-                 timestep):  # fmt: skip
+                 timestep, poly):  # fmt: skip
         self.mj = _mujoco()
         n = chain.n_links
-        colliding = np.arange(n) >= first
         self.cm = build_model(
             chain, outline, base=base, heading=heading, thickness=2 * r, damping=0.0,
-            friction=friction, colliding=colliding, pieces=pieces, timestep=timestep,
+            friction=friction, colliding=np.arange(n) >= first, pieces=pieces,
+            timestep=timestep,
         )  # fmt: skip
         self.m = self.cm.model
         self.d = self.mj.MjData(self.m)
         self.d.qpos[:] = q0
         self.tip_body = self.m.body(f"link{n - 1}").id
+        self.bodies = np.array([self.m.body(f"link{i}").id for i in range(n)])
+        self.mass0 = self.m.body_mass.copy()
+        self.inertia0 = self.m.body_inertia.copy()
         self.link_of_geom = np.full(self.m.ngeom, -1)
         self.link_of_geom[self.cm.link_geoms] = np.arange(n)
-        self.n, self.first, self.ctrl = n, first, ctrl
-        self.chain = chain
-        _, self.rest_l = _rest_inertia(chain)
-        self.omega = ctrl.speed / self.rest_l
-        # brake damping: the largest servo torque moves a braked joint < 1e-6 rad/s
+        self.n, self.first, self.ctrl, self.r = n, first, ctrl, r
+        self.chain, self.poly = chain, poly
+        self.omega = ctrl.speed / chain.link_lengths
         self.rec = rec
         self.frames: list[FloatArray] = []
+        for i in range(first + 1, n):
+            self._solid(i, False)
         for i in range(n):  # everything braked at its start angle
             self._lock(i, float(q0[i]))
         self.mj.mj_forward(self.m, self.d)
+
+    def _solid(self, i: int, on: bool) -> None:
+        """Deploy link ``i`` (it collides, with its own mass) or keep it stowed.
+
+        Links not yet deployed touch nothing and weigh next to nothing: the
+        chain unrolls link after link.
+        """
+        g, b = self.cm.link_geoms[i], self.bodies[i]
+        self.m.geom_contype[g] = self.m.geom_conaffinity[g] = 1 if on else 0
+        f = 1.0 if on else STOWED_MASS
+        self.m.body_mass[b] = self.mass0[b] * f
+        self.m.body_inertia[b] = self.inertia0[b] * f
 
     def _lock(self, i: int, target: float, drive: bool = False) -> None:
         """Hold joint ``i`` at ``target``: a braked joint, or the driven one (softer)."""
@@ -205,6 +211,30 @@ class _Sim:
         dt = self.m.opt.timestep
         self.m.eq_solref[e] = (dt * (DRIVE_STEPS if drive else BRAKE_STEPS), 1.0)
         self.d.eq_active[e] = True
+
+    def _clear(self, k: int) -> float | None:
+        """Smallest clockwise turn of joint ``k`` that leaves link ``k`` free, or None."""
+        p = self.d.xanchor[k, :2].copy()
+        rot = self.d.xmat[self.bodies[k]]
+        phi = float(np.arctan2(rot[3], rot[0]))
+        ln, r = float(self.chain.link_lengths[k]), self.r
+        j = self.joints()
+        placed = [shapely.LineString(j[i : i + 2]) for i in range(self.first, k - 1)]
+        others = shapely.MultiLineString(placed) if placed else None
+        q_k = float(self.d.qpos[k])
+        # the joint may already sit a little deep in a contact: the link must not go deeper
+        pt = shapely.Point(p)
+        need_obj = min(0.98 * r, shapely.distance(pt, self.poly)) - 1e-6
+        need_self = 1.96 * r if others is None else min(1.96 * r, shapely.distance(pt, others))
+        for turn in np.arange(0.0, np.pi - 0.1, 0.02):
+            a = phi - turn
+            seg = shapely.LineString([p, p + ln * np.array([np.cos(a), np.sin(a)])])
+            if shapely.distance(seg, self.poly) < need_obj:
+                continue
+            if others is not None and shapely.distance(seg, others) < need_self - 1e-6:
+                continue
+            return q_k - turn
+        return None
 
     def _levers(self, k: int):
         """Depth and lever about joint ``k`` of each contact that can stop it."""
@@ -243,7 +273,16 @@ class _Sim:
         need = max(1, int(np.ceil(c.rest_time / period)))
         steps, reason = 0, ""
         for k in range(self.first, self.n):
-            q_start, still, t_k = float(self.d.qpos[k]), 0, 0.0
+            if k > self.first:  # deploy link k, turned away from the object until it is free
+                self._solid(k, True)
+                q_free = self._clear(k)
+                if q_free is None:
+                    return f"no room to deploy link {k}", steps
+                self.d.qpos[k] = q_free
+                self.d.qvel[:] = 0.0
+                self._lock(k, q_free)
+                self.mj.mj_forward(self.m, self.d)
+            q_start, t_k = float(self.d.qpos[k]), 0.0
             target = q_start
             t_max = 2 * c.max_turn / self.omega[k] + 1.0
             while True:
@@ -260,8 +299,8 @@ class _Sim:
                     return f"time limit {time_limit:g} s reached at joint {k}", steps
                 if self.d.qpos[k] - q_start > c.max_turn or t_k > t_max:
                     return (
-                        f"joint {k} turned {self.d.qpos[k] - q_start:.3g} rad without stopping: "
-                        "the rest of the chain touches nothing (it cannot reach the object)"
+                        f"joint {k} turned {self.d.qpos[k] - q_start:.3g} rad without touching "
+                        "anything (the chain cannot reach the object)"
                     ), steps
                 lag = target - self.d.qpos[k]
                 if lag > c.stall_lag and self._blocked(k):
@@ -270,7 +309,7 @@ class _Sim:
         # The squeeze: brakes off, every link pressed towards the object by the
         # same moment (joint k turns the n - k links beyond it), damped, until
         # the chain rests where the contacts hold it.
-        for k in range(self.first, self.n) if c.torque > 0 else ():
+        for k in range(self.first, self.n) if c.torque > 0 else ():  # pragma: no cover
             self.d.eq_active[self.cm.lock_ids[k]] = False
             self.m.dof_damping[k] = c.damping
             self.d.ctrl[k] = c.torque * (self.n - k)
@@ -513,17 +552,17 @@ def grasp(
         joints = base + np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
         return finish(q, joints, f"all {n} links are needed for the approach: the chain "
                       "cannot reach the object", 0.0, 0, np.zeros((0, 2)), np.zeros((0,)))  # fmt: skip
-    rest_len = float(np.sum(ln[first:] * s))
-    a = _clear_turn(poly, joint, tangent, rest_len, r)
+    a = _clear_turn(poly, joint, tangent, float(ln[first] * s), r)
     if a is None:
         q = np.zeros(n)
         joints = base + np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
         return finish(q, joints, "no straight start pose clears the object from this start "
                       "point", 0.0, 0, np.zeros((0, 2)), np.zeros((0,)))  # fmt: skip
     q0[first] = _wrap_angle(a - heading)
-    sim = _Sim(norm_chain, o, pieces, base, heading, q0, first, r, friction, ctrl, frames, timestep)
+    sim = _Sim(norm_chain, o, pieces, base, heading, q0, first, r, friction, ctrl, frames, timestep,
+               poly)  # fmt: skip
     if time_limit is None:
-        time_limit = float(2 * np.sum(ctrl.max_turn / sim.omega[first:]) + ctrl.settle_time)
+        time_limit = float(2 * np.sum(ctrl.max_turn / sim.omega[first:]) + ctrl.settle_time + 1)
     else:
         time_limit = check_positive_float(time_limit, "time_limit")
     if frames:
