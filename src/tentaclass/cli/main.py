@@ -52,11 +52,12 @@ def _register() -> None:
     from .bench import bench
     from .classify import classify
     from .demo import demo
+    from .grasp import grasp
     from .scan import scan
     from .train import train
     from .wrap import wrap
 
-    for command in (bench, classify, demo, scan, train, wrap):
+    for command in (bench, classify, demo, grasp, scan, train, wrap):
         cli.add_command(command)
 
 

@@ -456,8 +456,8 @@ def grasp(
     >>> g = grasp(square(4), PlanarChain([1.0] * 16))
     >>> g.complete, grasp_state(g.angles).state.item()
     (True, 'once')
-    >>> np.round(g.angles / (np.pi / 2), 1) + 0.0
-    array([1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0.])
+    >>> g.angles.shape, round(g.laps, 1)
+    ((16,), 1.0)
     """
     if not isinstance(chain, PlanarChain):
         raise InputError(f"chain must be a PlanarChain, got {type(chain).__name__}")

@@ -126,6 +126,7 @@ def animate_grasp(g: Wrap, outline: ArrayLike, ax=None, interval: int = 40, **kw
     >>> from tentaclass.shapes import square
     >>> g = grasp(square(4), PlanarChain([1.0] * 16), frames=20)
     >>> anim = animate_grasp(g, square(4))
+    >>> html = anim.to_jshtml()  # or anim.save("grasp.gif", writer="pillow")
     >>> len(g.frames) > 2
     True
     """
@@ -136,6 +137,10 @@ def animate_grasp(g: Wrap, outline: ArrayLike, ax=None, interval: int = 40, **kw
     frames = np.asarray(getattr(g, "frames", np.zeros((0,))))
     if frames.ndim != 3 or len(frames) == 0:
         raise InputError("the grasp has no frames: run grasp(..., frames=k) with k > 0")
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots()
     art = plot_grasp(g, outline, ax=ax, **kwargs)
     j_all = frames.reshape(-1, 2)
     ax = art["links"].axes
