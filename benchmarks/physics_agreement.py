@@ -142,7 +142,7 @@ def random_object(cls, rng, laps):
     return p @ np.array([[np.cos(th), np.sin(th)], [-np.sin(th), np.cos(th)]])
 
 
-def sim_to_real(n_objects, jobs, seed=1):
+def sim_to_real(n_objects, jobs, seed=1, n_train=4000):
     rng = np.random.default_rng(seed)
     classes = ["circle", "rectangle", "square", "triangle"]
     y = rng.choice(classes, n_objects)
@@ -150,7 +150,7 @@ def sim_to_real(n_objects, jobs, seed=1):
     objs = [random_object(c, rng, lp) for c, lp in zip(y, laps, strict=True)]
     starts = rng.uniform(0, 1, n_objects)
     dirs = np.where(rng.random(n_objects) < 0.5, "ccw", "cw")
-    train = synthetic_tentacle(4000, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0),
+    train = synthetic_tentacle(n_train, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0),
                                noise=(0.0, 0.05), seed=seed + 100)  # fmt: skip
     geo = np.array([wrap(o, 16, 1.0, start=s, direction=d, mode="hug").angles
                     for o, s, d in zip(objs, starts, dirs, strict=True)])  # fmt: skip
@@ -181,6 +181,7 @@ def main(argv=None):
     ap.add_argument("--mpeg7", type=int, default=200)
     ap.add_argument("--thesis", type=int, default=200)
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--train", type=int, default=4000, help="geometric training wraps")
     ap.add_argument("--out")
     ap.add_argument("--mpeg7-folder", type=Path, default=MPEG7,
                     help="MPEG-7 CE-Shape-1 Part B (default ../shared/data/mpeg7-part-b)")
@@ -211,7 +212,7 @@ def main(argv=None):
               f"median {np.median([r['sim_time'] for r in rows]):.1f} s")  # fmt: skip
     print(markdown_table(HEADER, table))
     if args.thesis:
-        s2r = sim_to_real(args.thesis, args.jobs)
+        s2r = sim_to_real(args.thesis, args.jobs, n_train=args.train)
         out["sim_to_real"] = s2r
         print(f"{s2r['n']} objects, {s2r['complete']} complete grasps, "
               f"{s2r['seconds']:.0f} s, median physical laps {s2r['laps_phys_median']:.2f}")

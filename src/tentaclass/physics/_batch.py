@@ -16,7 +16,7 @@ __all__ = ["grasp_many"]
 
 def grasp_many(
     outlines: ArrayLike | Sequence[ArrayLike],
-    chain: PlanarChain,
+    chain: PlanarChain | Sequence[PlanarChain],
     starts: ArrayLike = 0.0,
     *,
     offset: ArrayLike = 0.0,
@@ -31,7 +31,8 @@ def grasp_many(
     outlines : array_like of shape (n_points, 2), or a sequence of them
         One outline (the batch runs over ``starts`` and ``offset``) or one per
         grasp.
-    chain : PlanarChain
+    chain : PlanarChain or sequence of PlanarChain
+        One chain for every grasp, or one per grasp.
     starts, offset : float or array_like of shape (n_grasps,)
         Broadcast against the outlines.
     direction : str or sequence of str, default="ccw"
@@ -78,11 +79,14 @@ def grasp_many(
     dirs = [direction] * b if isinstance(direction, str) else list(direction)
     if len(dirs) != b:
         raise InputError(f"direction has {len(dirs)} entries for {b} grasps")
-    jobs = [(rows[i], float(st[i]), float(off[i]), dirs[i]) for i in range(b)]
+    chains = [chain] * b if isinstance(chain, PlanarChain) else list(chain)
+    if len(chains) != b:
+        raise InputError(f"chain has {len(chains)} entries for {b} grasps")
+    jobs = [(rows[i], chains[i], float(st[i]), float(off[i]), dirs[i]) for i in range(b)]
     if n_jobs in (None, 1):
-        return [grasp(o, chain, start=t, offset=f, direction=d, **kwargs) for o, t, f, d in jobs]
+        return [grasp(o, c, start=t, offset=f, direction=d, **kwargs) for o, c, t, f, d in jobs]
     from joblib import Parallel, delayed
 
     return Parallel(n_jobs=n_jobs)(
-        delayed(grasp)(o, chain, start=t, offset=f, direction=d, **kwargs) for o, t, f, d in jobs
+        delayed(grasp)(o, c, start=t, offset=f, direction=d, **kwargs) for o, c, t, f, d in jobs
     )
