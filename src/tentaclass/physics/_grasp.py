@@ -213,7 +213,12 @@ class _Sim:
         self.d.eq_active[e] = True
 
     def _clear(self, k: int) -> float | None:
-        """Smallest clockwise turn of joint ``k`` that leaves link ``k`` free, or None."""
+        """Joint ``k``'s angle after the smallest clockwise turn that leaves link ``k`` free.
+
+        Where no direction is quite free (a joint wedged in a groove), the
+        roomiest one if the link sinks in by less than half its thickness;
+        otherwise None.
+        """
         p = self.d.xanchor[k, :2].copy()
         rot = self.d.xmat[self.bodies[k]]
         phi = float(np.arctan2(rot[3], rot[0]))
@@ -226,14 +231,20 @@ class _Sim:
         pt = shapely.Point(p)
         need_obj = min(0.98 * r, shapely.distance(pt, self.poly)) - 1e-6
         need_self = 1.96 * r if others is None else min(1.96 * r, shapely.distance(pt, others))
-        for turn in np.arange(0.0, np.pi - 0.1, 0.02):
+        best, best_turn = -np.inf, None
+        for turn in np.arange(0.0, 2 * np.pi - 0.1, 0.02):
             a = phi - turn
             seg = shapely.LineString([p, p + ln * np.array([np.cos(a), np.sin(a)])])
-            if shapely.distance(seg, self.poly) < need_obj:
-                continue
-            if others is not None and shapely.distance(seg, others) < need_self - 1e-6:
-                continue
-            return q_k - turn
+            room = shapely.distance(seg, self.poly) - need_obj
+            if others is not None:
+                room = min(room, shapely.distance(seg, others) - need_self + 1e-6)
+            if room >= 0:
+                return q_k - turn
+            if room > best:
+                best, best_turn = room, turn
+        # wedged in: take the roomiest direction if the link is at most a little deep
+        if best_turn is not None and best > -0.5 * r:
+            return q_k - best_turn
         return None
 
     def _levers(self, k: int):
@@ -277,7 +288,10 @@ class _Sim:
                 self._solid(k, True)
                 q_free = self._clear(k)
                 if q_free is None:
-                    return f"no room to deploy link {k}", steps
+                    return (
+                        f"no room to deploy link {k}: the chain is jammed (in a groove it "
+                        "entered and cannot leave, or between the object and itself)"
+                    ), steps
                 self.d.qpos[k] = q_free
                 self.d.qvel[:] = 0.0
                 self._lock(k, q_free)
