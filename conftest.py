@@ -7,6 +7,7 @@ _PHYSICS = [Path("src/tentaclass/physics"), Path("src/tentaclass/plot/physics.py
 
 
 def pytest_ignore_collect(collection_path, config):
+    """Skip the physics modules' doctests when MuJoCo is not installed."""
     if importlib.util.find_spec("mujoco") is not None:
         return None
     rel = Path(collection_path).resolve()

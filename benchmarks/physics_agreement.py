@@ -168,8 +168,11 @@ def sim_to_real(n_objects, jobs, seed=1, n_train=4000):
         clf.fit(train.data, train.target)
         acc_geo = float(np.mean(clf.predict(geo) == y))
         acc_phys = float(np.mean(clf.predict(pa) == y))
-        per_class = {c: (float(np.mean(clf.predict(geo[y == c]) == c)),
-                         float(np.mean(clf.predict(pa[y == c]) == c))) for c in classes}  # fmt: skip
+        per_class = {
+            c: (float(np.mean(clf.predict(geo[y == c]) == c)),
+                float(np.mean(clf.predict(pa[y == c]) == c)))
+            for c in classes
+        }  # fmt: skip
         out["methods"][name] = {"acc_geo": acc_geo, "acc_phys": acc_phys,
                                 "ratio": acc_phys / acc_geo, "per_class": per_class}  # fmt: skip
     out["laps_phys_median"] = float(np.median([g.laps for g in phys]))
@@ -183,8 +186,12 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--train", type=int, default=4000, help="geometric training wraps")
     ap.add_argument("--out")
-    ap.add_argument("--mpeg7-folder", type=Path, default=MPEG7,
-                    help="MPEG-7 CE-Shape-1 Part B (default ../shared/data/mpeg7-part-b)")
+    ap.add_argument(
+        "--mpeg7-folder",
+        type=Path,
+        default=MPEG7,
+        help="MPEG-7 CE-Shape-1 Part B (default ../shared/data/mpeg7-part-b)",
+    )
     args = ap.parse_args(argv)
     out = {}
     rng = np.random.default_rng(0)
@@ -193,7 +200,7 @@ def main(argv=None):
     out["thesis"] = dict(zip(th, rows, strict=True))
     table = [summarise(k, [r]) for k, r in zip(th, rows, strict=True)]
     if args.mpeg7 and args.mpeg7_folder.is_dir():
-        outlines, labels, names = shapes.load_mpeg7(args.mpeg7_folder, max_vertices=1000)
+        outlines, _, names = shapes.load_mpeg7(args.mpeg7_folder, max_vertices=1000)
         idx = np.sort(rng.choice(len(outlines), args.mpeg7, replace=False))
         starts = rng.uniform(0, 1, len(idx))
         dirs = np.where(rng.random(len(idx)) < 0.5, "ccw", "cw")
@@ -214,8 +221,10 @@ def main(argv=None):
     if args.thesis:
         s2r = sim_to_real(args.thesis, args.jobs, n_train=args.train)
         out["sim_to_real"] = s2r
-        print(f"{s2r['n']} objects, {s2r['complete']} complete grasps, "
-              f"{s2r['seconds']:.0f} s, median physical laps {s2r['laps_phys_median']:.2f}")
+        print(
+            f"{s2r['n']} objects, {s2r['complete']} complete grasps, "
+            f"{s2r['seconds']:.0f} s, median physical laps {s2r['laps_phys_median']:.2f}"
+        )
         print(markdown_table(
             ["recogniser (trained on geometric wraps)", "geometric acc", "physical acc", "ratio"],
             [[k, f"{100 * v['acc_geo']:.1f} %", f"{100 * v['acc_phys']:.1f} %",

@@ -25,8 +25,8 @@ def test_bench_physics_smoke(tmp_path, capsys):
 
 
 def test_physics_agreement_smoke(tmp_path, capsys):
-    out = load("physics_agreement").main(["--mpeg7", "0", "--thesis", "8", "--train", "200",
-                                          "--jobs", "1", "--out", str(tmp_path / "a.json")])  # fmt: skip
+    args = ["--mpeg7", "0", "--thesis", "8", "--train", "200", "--jobs", "1"]
+    out = load("physics_agreement").main([*args, "--out", str(tmp_path / "a.json")])
     assert set(out["thesis"]) == {"square", "circle", "rectangle", "triangle"}
     assert out["sim_to_real"]["n"] == 8
     assert (tmp_path / "a.json").exists()

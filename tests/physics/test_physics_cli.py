@@ -8,8 +8,8 @@ from click.testing import CliRunner
 
 pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
 
-from tentaclass.cli.main import cli  # noqa: E402
-from tentaclass.cli.options import parse_angle_list  # noqa: E402
+from tentaclass.cli.main import cli
+from tentaclass.cli.options import parse_angle_list
 
 
 def run(args):

@@ -77,6 +77,7 @@ def test_model_geometry(rng):
     d = mujoco.MjData(m)
     d.qpos[:] = [0.2, -0.4, 1.0]
     mujoco.mj_forward(m, d)
-    fk = chain.forward_kinematics(d.qpos + [0.3, 0, 0]).joints + [1.0, -1.0]
+    q_abs = d.qpos + np.array([0.3, 0.0, 0.0])  # the base frame turned by the heading
+    fk = chain.forward_kinematics(q_abs).joints + np.array([1.0, -1.0])
     np.testing.assert_allclose(d.xanchor[:, :2], fk[:3], atol=1e-12)
     assert np.allclose(m.geom_size[cm.link_geoms, 0], 0.1)

@@ -6,17 +6,17 @@ import shapely
 
 pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
 
-from tentaclass import (  # noqa: E402
+from tentaclass import (
     PlanarChain,
     ShiftNNClassifier,
     Wrap,
     angles_to_points,
     grasp_state,
 )
-from tentaclass.datasets import synthetic_tentacle  # noqa: E402
-from tentaclass.errors import InputError  # noqa: E402
-from tentaclass.physics import CurlController, PhysicalGrasp, grasp, grasp_many  # noqa: E402
-from tentaclass.shapes import circle, polygon, rectangle, square, triangle  # noqa: E402
+from tentaclass.datasets import synthetic_tentacle
+from tentaclass.errors import InputError
+from tentaclass.physics import CurlController, PhysicalGrasp, grasp, grasp_many
+from tentaclass.shapes import circle, polygon, rectangle, square, triangle
 
 #: A C whose upper arm is shorter than its lower one: the opening between the
 #: lip corners (6, 1) and (4, 3) is 2.83 wide, the slot behind it 2 high.

@@ -6,11 +6,11 @@ import pytest
 pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
 pytest.importorskip("matplotlib")
 
-from tentaclass import PlanarChain  # noqa: E402
-from tentaclass.errors import InputError  # noqa: E402
-from tentaclass.physics import grasp  # noqa: E402
-from tentaclass.plot.physics import animate_grasp, plot_grasp  # noqa: E402
-from tentaclass.shapes import square  # noqa: E402
+from tentaclass import PlanarChain
+from tentaclass.errors import InputError
+from tentaclass.physics import grasp
+from tentaclass.plot.physics import animate_grasp, plot_grasp
+from tentaclass.shapes import square
 
 
 @pytest.fixture(scope="module")

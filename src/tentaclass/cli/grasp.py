@@ -1,4 +1,4 @@
-"""``tentaclass grasp``: close a simulated tentacle on an object in MuJoCo, print its joint angles."""
+"""``tentaclass grasp``: close a simulated tentacle on an object in MuJoCo, print its angles."""
 
 from __future__ import annotations
 

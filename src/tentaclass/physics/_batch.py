@@ -73,8 +73,7 @@ def grasp_many(
         st, off = np.broadcast_to(st, (b,)), np.broadcast_to(off, (b,))
     except ValueError:
         raise InputError(
-            f"starts ({st.size}) and offset ({off.size}) must have one value or one per "
-            f"grasp ({b})"
+            f"starts ({st.size}) and offset ({off.size}) must have one value or one per grasp ({b})"
         ) from None
     dirs = [direction] * b if isinstance(direction, str) else list(direction)
     if len(dirs) != b:

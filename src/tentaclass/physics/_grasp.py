@@ -561,17 +561,16 @@ def grasp(
             thickness=thickness,
         )  # fmt: skip
 
+    def straight(reason: str) -> PhysicalGrasp:  # a grasp that never started
+        along = np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
+        return finish(np.zeros(n), base + along, reason, 0.0, 0, np.zeros((0, 2)), np.zeros(0))
+
     if first >= n:
-        q = np.zeros(n)
-        joints = base + np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
-        return finish(q, joints, f"all {n} links are needed for the approach: the chain "
-                      "cannot reach the object", 0.0, 0, np.zeros((0, 2)), np.zeros((0,)))  # fmt: skip
+        return straight(f"all {n} links are needed for the approach: the chain cannot reach "
+                        "the object")  # fmt: skip
     a = _clear_turn(poly, joint, tangent, float(ln[first] * s), r)
     if a is None:
-        q = np.zeros(n)
-        joints = base + np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
-        return finish(q, joints, "no straight start pose clears the object from this start "
-                      "point", 0.0, 0, np.zeros((0, 2)), np.zeros((0,)))  # fmt: skip
+        return straight("no start pose of the first link clears the object from this start point")
     q0[first] = _wrap_angle(a - heading)
     sim = _Sim(norm_chain, o, pieces, base, heading, q0, first, r, friction, ctrl, frames, timestep,
                poly)  # fmt: skip
@@ -584,5 +583,5 @@ def grasp(
     reason, steps = sim.run(time_limit)
     q = np.array(sim.d.qpos, dtype=float)
     joints = sim.joints()
-    fr = np.array(sim.frames + [joints]) if frames else np.zeros((0,))
+    fr = np.array([*sim.frames, joints]) if frames else np.zeros((0,))
     return finish(q, joints, reason, float(sim.d.time), steps, sim.contact_points(), fr)

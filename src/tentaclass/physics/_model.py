@@ -200,14 +200,16 @@ def chain_mjcf(
                 f' size="{_f(r)}" contype="{ct}" conaffinity="{ct}" mass="0"/>'
             )
         indent += "  "
-    for i in range(n - 1, -1, -1):
+    for _ in range(n):
         indent = indent[:-2]
         out.append(f"{indent}</body>")
     out.append("  </worldbody>")
     out.append("  <equality>")
     for i in range(n):
-        out.append(f'    <joint name="lock{i}" joint1="q{i}" polycoef="0 0 0 0 0" active="false"'
-            f' solref="{_f(2 * timestep)} 1" solimp="0.9999 0.9999 0.001"/>')
+        out.append(
+            f'    <joint name="lock{i}" joint1="q{i}" polycoef="0 0 0 0 0" active="false"'
+            f' solref="{_f(2 * timestep)} 1" solimp="0.9999 0.9999 0.001"/>'
+        )
     out.append("  </equality>")
     out.append("  <actuator>")
     for i in range(n):
