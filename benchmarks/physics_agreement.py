@@ -40,7 +40,7 @@ from tentaclass import (
 )
 from tentaclass.datasets import synthetic_tentacle
 from tentaclass.physics import grasp_many
-from tentaclass.sampling import closing_link_length
+from tentaclass.wrapping import closing_link_length
 
 MPEG7 = (Path(__file__).resolve().parents[1] / "../shared/data/mpeg7-part-b").resolve()
 

@@ -73,7 +73,7 @@ def grasp(shape, size, vertices, mask, links, link_length, start, direction, off
     classify` reads them, followed by the grasp state read back from the
     angles alone. Needs the physics extra (pip install 'tentaclass[physics]').
     """
-    from ..grasp import grasp_state
+    from ..wrapping import grasp_state
     from ..manipulator import PlanarChain
 
     try:

@@ -1,4 +1,42 @@
-"""Figures (matplotlib, imported lazily): every function takes ``ax=None`` and returns its artists.
+"""Every figure of the project, one convention for all.
 
-- :mod:`tentaclass.plot.physics`: physical grasps, still and animated.
+matplotlib is imported only when a plotting function is called. Each function
+draws on ``ax`` (a new figure's axes when ``ax`` is None), returns the artists
+it drew and never calls ``plt.show()``.
+
+- :mod:`tentaclass.plot.features`: a joint-angle array as shape, turning
+  function, periodic signal and Fourier features (the thesis's panel);
+- :mod:`tentaclass.plot.wrapping`: a chain on its object, grasping spectra,
+  the sampling error against link length;
+- :mod:`tentaclass.plot.scanner`: an inspected object, a belt with its objects;
+- :mod:`tentaclass.plot.physics`: a physical grasp with its contacts, and its
+  closing as an animation.
 """
+
+from .features import (
+    plot_features,
+    plot_periodic_signal,
+    plot_shape,
+    plot_thesis_panel,
+    plot_turning,
+)
+from .physics import animate_grasp, plot_grasp
+from .scanner import plot_belt, plot_inspection, save_belt_figure
+from .wrapping import grasp_spectrum, plot_capture_error, plot_grasp_spectra, plot_wrap
+
+__all__ = [
+    "animate_grasp",
+    "grasp_spectrum",
+    "plot_belt",
+    "plot_capture_error",
+    "plot_features",
+    "plot_grasp",
+    "plot_grasp_spectra",
+    "plot_inspection",
+    "plot_periodic_signal",
+    "plot_shape",
+    "plot_thesis_panel",
+    "plot_turning",
+    "plot_wrap",
+    "save_belt_figure",
+]
