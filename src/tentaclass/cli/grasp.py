@@ -9,6 +9,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
+from .options import object_options
 from .wrap import _outline
 
 #: Most frames an animation gets (the recorded ones are thinned to this).
@@ -41,13 +42,7 @@ def _save_figures(g, outline, plot: Path | None, gif: Path | None) -> None:
 
 
 @click.command()
-@click.option("--shape", type=click.Choice(["circle", "square", "rectangle", "triangle",
-              "polygon"]), help="Primitive object (default square).")  # fmt: skip
-@click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' of a "
-              "rectangle (default 4).")  # fmt: skip
-@click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'.")
-@click.option("--mask", type=click.Path(exists=True, dir_okay=False, path_type=Path),
-              help="Binary image: grasp its largest object.")  # fmt: skip
+@object_options("grasp")
 @click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
 @click.option("--link-length", type=click.FloatRange(min=0, min_open=True),
               help="Link length (default: the perimeter over the number of links).")  # fmt: skip
@@ -73,8 +68,8 @@ def grasp(shape, size, vertices, mask, links, link_length, start, direction, off
     classify` reads them, followed by the grasp state read back from the
     angles alone. Needs the physics extra (pip install 'tentaclass[physics]').
     """
-    from ..wrapping import grasp_state
     from ..manipulator import PlanarChain
+    from ..wrapping import grasp_state
 
     try:
         from ..physics import grasp as do_grasp

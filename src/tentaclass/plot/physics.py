@@ -13,16 +13,9 @@ import numpy as np
 from .._typing import ArrayLike
 from ..shapes import as_outline
 from ..wrapping import Wrap
+from .wrapping import _axes, plot_wrap
 
 __all__ = ["animate_grasp", "plot_grasp"]
-
-
-def _axes(ax):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
 
 
 def _link_width(ax, thickness: float) -> float:
@@ -35,7 +28,7 @@ def _link_width(ax, thickness: float) -> float:
 
 
 def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, Any]:
-    """Draw the object and the chain at rest, with its contact points.
+    """Draw the object and the chain at rest, with its contact points (on :func:`plot_wrap`).
 
     Parameters
     ----------
@@ -64,12 +57,8 @@ def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str,
     >>> sorted(art)
     ['base', 'contacts', 'joints', 'links', 'object']
     """
-    from matplotlib.patches import Polygon
-
     ax = _axes(ax)
     p = as_outline(outline)
-    art: dict[str, Any] = {}
-    art["object"] = ax.add_patch(Polygon(p, closed=True, fc="0.85", ec="0.3", lw=1))
     j = np.asarray(g.joints)
     lo, hi = np.minimum(p.min(0), j.min(0)), np.maximum(p.max(0), j.max(0))
     pad = 0.08 * float(np.max(hi - lo))
@@ -78,18 +67,15 @@ def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str,
     ax.set_aspect("equal")
     thickness = float(getattr(g, "thickness", 0.0))
     style = {"color": "tab:blue", "solid_capstyle": "round", "alpha": 0.8}
-    if thickness > 0:
+    if thickness > 0:  # draw the links as thick as they are
         style["lw"] = _link_width(ax, thickness)
-    style.update(kwargs)
-    (art["links"],) = ax.plot(j[:, 0], j[:, 1], **style)
-    art["joints"] = ax.scatter(j[:, 0], j[:, 1], s=8, c="k", zorder=3)
+    art = plot_wrap(g, p, ax=ax, **(style | kwargs))
+    art["joints"].set_color("k")
     pts = getattr(g, "contact_points", None)
-    if pts is None or len(pts) == 0:
-        pts = j[np.asarray(g.contact, bool)] if len(j) else np.zeros((0, 2))
-    pts = np.asarray(pts).reshape(-1, 2)
-    art["contacts"] = ax.scatter(pts[:, 0], pts[:, 1], s=22, c="tab:red", marker="x", zorder=4,
-                                 label="contacts")  # fmt: skip
-    (art["base"],) = ax.plot(j[:1, 0], j[:1, 1], "ks", ms=7, zorder=4)
+    if pts is not None and len(pts):  # where MuJoCo's contacts are, not the contact joints
+        art["contacts"].set_offsets(np.asarray(pts).reshape(-1, 2))
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
     return art
 
 
