@@ -9,8 +9,9 @@ building a model does not.
 """
 
 from ._batch import grasp_many
+from ._controller import CurlController
 from ._decompose import convex_pieces
-from ._grasp import CurlController, PhysicalGrasp, grasp
+from ._grasp import PhysicalGrasp, grasp
 from ._model import ChainModel, build_model, chain_mjcf
 
 __all__ = [
