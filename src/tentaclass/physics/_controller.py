@@ -24,26 +24,26 @@ DRIVE_STEPS = 10
 
 @dataclass(frozen=True)
 class CurlController:
-    """Closes the chain joint after joint: curl until something stops it, then hold.
+    """Unrolls the chain link after link: each link curls until a contact stops it, then holds.
 
-    Joint ``k`` (from the base, the approach's joints excepted) is driven once
-    joint ``k - 1`` has stopped; until then it is braked at its angle, so the
-    rest of the chain turns as one straight bar about the driven joint,
-    towards the object, until a contact stops it. The joints are stiff
-    position servos (MuJoCo joint equality constraints whose set points the
-    controller moves): the driven joint's set point turns at an angular speed
-    that moves the chain's tip at ``speed`` link lengths per second; when a
-    contact holds the joint back by ``stall_lag`` it has stopped, and it is
-    braked where it stands (the hold).
+    Links not yet deployed touch nothing and weigh next to nothing. Link ``k``
+    (from the base, the approach's links excepted) is deployed once joint
+    ``k - 1`` has stopped: turned away from the object just enough to be free,
+    then its joint is driven to curl it towards the object until a contact
+    (with the object or the chain) holds it back; the joint is then braked
+    where it stands (the hold), after backing off what the soft contact let
+    the link sink in. The joints are stiff position servos (MuJoCo joint
+    equality constraints whose set points the controller moves): the driven
+    joint's set point turns so that the link's tip moves at ``speed`` link
+    lengths per second.
 
     Parameters
     ----------
     speed : float, default=20.0
-        Tip speed of the turning part, link lengths per second.
+        Tip speed of the curling link, link lengths per second.
     stall_lag : float, default=0.01
-        A driven joint this far (radians) behind its set point, and turning at
-        less than a fifth of its speed, has stopped (so has one whose lag
-        exceeds this plus what following a ramp costs the servo).
+        A driven joint this far (radians) behind its set point while a contact
+        pushes against it (with a lever about the joint) has stopped.
     max_turn : float, default=2*pi
         A joint that turns further than this (radians) without stopping touches
         nothing: the grasp ends incomplete.
