@@ -197,9 +197,9 @@ def grasp(
     The base sits ``offset`` outside the object at the start point, facing it
     (without an offset, on the object with ``heading`` the chord arriving at
     the start point from one link behind, as :func:`tentaclass.wrap` does);
-    the chain starts straight along the object's surface (turned away from
-    it just enough to clear it) and :class:`CurlController` closes it joint
-    after joint. Links are capsules of the given thickness, so their axes rest
+    the first link starts along the object's surface (turned away from it
+    just enough to clear it) and :class:`CurlController` unrolls the chain
+    link after link. Links are capsules of the given thickness, so their axes rest
     ``thickness / 2`` outside the object: compare with
     ``wrap(shapely.buffer(outline, thickness / 2), ...)``. A joint counts as
     in contact (``contact``, ``lap == 0``) within ``thickness / 2`` plus 10 %
