@@ -44,18 +44,18 @@ def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str,
     Returns
     -------
     artists : dict
-        ``"object"`` (Polygon patch), ``"links"`` (Line2D), ``"joints"`` and
-        ``"contacts"`` (PathCollection), ``"base"`` (Line2D).
+        As :func:`~tentaclass.plot.plot_wrap`; ``"contacts"`` marks MuJoCo's
+        contact points when the grasp has them.
 
     Examples
     --------
     >>> import matplotlib
     >>> matplotlib.use("Agg")
-    >>> from tentaclass.shapes import square
-    >>> from tentaclass.wrapping import wrap
-    >>> art = plot_grasp(wrap(square(4), 12, 1.0), square(4))
-    >>> sorted(art)
-    ['base', 'contacts', 'joints', 'links', 'object']
+    >>> from tentaclass import wrap
+    >>> from tentaclass.shapes import triangle
+    >>> art = plot_grasp(wrap(triangle(side=3), 9, 1.0), triangle(side=3))
+    >>> art["links"].get_xydata().shape
+    (10, 2)
     """
     ax = _axes(ax)
     p = as_outline(outline)
