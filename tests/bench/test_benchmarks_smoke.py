@@ -3,6 +3,8 @@
 import importlib.util
 from pathlib import Path
 
+import pytest
+
 BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
 
 
@@ -46,3 +48,21 @@ def test_mpeg7_ceiling_smoke(mpeg7_folder, tmp_path, capsys):
     # three distinct classes: the outline tells them apart, the hull nearly so
     assert acc["outline", 64] >= 0.9 and acc["hull", 64] >= 0.7
     assert "exact hull" in capsys.readouterr().out
+
+
+def test_bench_physics_smoke(tmp_path, capsys):
+    pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
+    args = ["--grasps", "1", "--links", "8", "--repeat", "1", "--jobs", "1"]
+    out = load("bench_physics").main([*args, "--folder", str(tmp_path / "absent")])
+    assert set(out["best"]) == {"serial", "parallel", "geometric"}
+    assert "grasps / s" in capsys.readouterr().out
+
+
+def test_physics_agreement_smoke(tmp_path, capsys):
+    pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
+    args = ["--mpeg7", "0", "--thesis", "8", "--train", "200", "--jobs", "1"]
+    out = load("physics_agreement").main([*args, "--out", str(tmp_path / "a.json")])
+    assert set(out["thesis"]) == {"square", "circle", "rectangle", "triangle"}
+    assert out["sim_to_real"]["n"] == 8
+    assert (tmp_path / "a.json").exists()
+    assert "chord-shape-nn" in capsys.readouterr().out

@@ -52,12 +52,13 @@ def _register() -> None:
     from .bench import bench
     from .classify import classify
     from .demo import demo
+    from .grasp import grasp
     from .scan import scan
     from .serve import serve
     from .train import train
     from .wrap import wrap
 
-    for command in (bench, classify, demo, scan, serve, train, wrap):
+    for command in (bench, classify, demo, grasp, scan, serve, train, wrap):
         cli.add_command(command)
 
 

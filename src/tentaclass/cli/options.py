@@ -117,3 +117,22 @@ def finite(ctx, param, value):
     if value is not None and not np.isfinite(value):
         raise click.BadParameter(f"must be a finite number, got {value}")
     return value
+
+
+def object_options(verb: str):
+    """The options that name an object (``--shape``, ``--size``, ``--vertices``, ``--mask``)."""
+
+    def decorate(func):
+        for option in reversed([
+            click.option("--shape", type=click.Choice(["circle", "square", "rectangle",
+                         "triangle", "polygon"]), help="Primitive object (default square)."),
+            click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' "
+                         "of a rectangle (default 4)."),
+            click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'."),
+            click.option("--mask", type=click.Path(exists=True, dir_okay=False, path_type=Path),
+                         help=f"Binary image: {verb} its largest object."),
+        ]):  # fmt: skip
+            func = option(func)
+        return func
+
+    return decorate

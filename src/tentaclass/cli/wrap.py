@@ -9,7 +9,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import finite
+from .options import finite, object_options
 
 
 def _numbers(text: str | None, name: str) -> list[float] | None:
@@ -52,13 +52,7 @@ def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Pa
 
 
 @click.command()
-@click.option("--shape", type=click.Choice(["circle", "square", "rectangle", "triangle",
-              "polygon"]), help="Primitive object (default square).")  # fmt: skip
-@click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' of a "
-              "rectangle (default 4).")  # fmt: skip
-@click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'.")
-@click.option("--mask", type=click.Path(exists=True, dir_okay=False, path_type=Path),
-              help="Binary image: wrap its largest object.")  # fmt: skip
+@object_options("wrap")
 @click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
 @click.option("--link-length", type=float, help="Link length (default 1).")
 @click.option(

@@ -8,7 +8,9 @@ it drew and never calls ``plt.show()``.
   function, periodic signal and Fourier features (the thesis's panel);
 - :mod:`tentaclass.plot.wrapping`: a chain on its object, grasping spectra,
   the sampling error against link length;
-- :mod:`tentaclass.plot.scanner`: an inspected object, a belt with its objects.
+- :mod:`tentaclass.plot.scanner`: an inspected object, a belt with its objects;
+- :mod:`tentaclass.plot.physics`: a physical grasp with its contacts, and its
+  closing as an animation.
 """
 
 from .features import (
@@ -18,14 +20,17 @@ from .features import (
     plot_thesis_panel,
     plot_turning,
 )
+from .physics import animate_grasp, plot_grasp
 from .scanner import plot_belt, plot_inspection, save_belt_figure
 from .wrapping import grasp_spectrum, plot_capture_error, plot_grasp_spectra, plot_wrap
 
 __all__ = [
+    "animate_grasp",
     "grasp_spectrum",
     "plot_belt",
     "plot_capture_error",
     "plot_features",
+    "plot_grasp",
     "plot_grasp_spectra",
     "plot_inspection",
     "plot_periodic_signal",

@@ -1,0 +1,106 @@
+"""``tentaclass grasp``: close a simulated tentacle on an object in MuJoCo, print its angles."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+import numpy as np
+
+from ..errors import TentaclassError
+from .options import object_options
+from .wrap import _outline
+
+#: Most frames an animation gets (the recorded ones are thinned to this).
+MAX_FRAMES = 80
+
+
+def _save_figures(g, outline, plot: Path | None, gif: Path | None) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..plot.physics import animate_grasp, plot_grasp
+
+    title = f"{len(g.angles)} links, {g.laps:.2f} laps" + ("" if g.complete else " (incomplete)")
+    if plot is not None:
+        fig, ax = plt.subplots(figsize=(5, 5))
+        plot_grasp(g, outline, ax=ax)
+        ax.set_title(title)
+        fig.savefig(plot, dpi=120, bbox_inches="tight")
+        plt.close(fig)
+    if gif is not None:
+        keep = np.unique(np.linspace(0, len(g.frames) - 1, min(MAX_FRAMES, len(g.frames))).round())
+        thin = type(g)(**{**g.__dict__, "frames": g.frames[keep.astype(int)]})
+        fig, ax = plt.subplots(figsize=(4, 4))
+        anim = animate_grasp(thin, outline, ax=ax)
+        ax.set_title(title)
+        anim.save(gif, writer="pillow", fps=20, dpi=80)
+        plt.close(fig)
+
+
+@click.command()
+@object_options("grasp")
+@click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
+@click.option("--link-length", type=click.FloatRange(min=0, min_open=True),
+              help="Link length (default: the perimeter over the number of links).")  # fmt: skip
+@click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
+              show_default=True, help="Start point, fraction of the perimeter.")  # fmt: skip
+@click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw", show_default=True)
+@click.option("--offset", type=click.FloatRange(min=0), default=0.0, show_default=True,
+              help="Distance of the base from the object.")  # fmt: skip
+@click.option("--thickness", type=click.FloatRange(min=0, min_open=True),
+              help="Link diameter (default a tenth of a link).")  # fmt: skip
+@click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True)
+@click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
+              help="Save the final pose with its contacts (PNG, PDF, SVG).")  # fmt: skip
+@click.option("--gif", type=click.Path(dir_okay=False, path_type=Path),
+              help="Save an animation of the chain closing (GIF).")  # fmt: skip
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def grasp(shape, size, vertices, mask, links, link_length, start, direction, offset, thickness,
+          friction, plot, gif, as_json) -> None:  # fmt: skip
+    """Close a simulated tentacle of LINKS links on an object and print its joint angles.
+
+    The chain unrolls link after link in MuJoCo, each link curling until a
+    contact stops it. The angles are printed space-separated, as `tentaclass
+    classify` reads them, followed by the grasp state read back from the
+    angles alone. Needs the physics extra (pip install 'tentaclass[physics]').
+    """
+    from ..manipulator import PlanarChain
+    from ..wrapping import grasp_state
+
+    try:
+        from ..physics import grasp as do_grasp
+
+        outline = _outline(shape, size, vertices, mask)
+        if link_length is None:
+            perimeter = float(np.sum(np.hypot(*(np.roll(outline, -1, axis=0) - outline).T)))
+            link_length = perimeter / links
+        g = do_grasp(
+            outline, PlanarChain([link_length] * links), start=start, direction=direction,
+            offset=offset, thickness=thickness, friction=friction, frames=2 if gif else 0,
+        )  # fmt: skip
+        state = grasp_state(g.angles)
+        if plot is not None or gif is not None:
+            _save_figures(g, outline, plot, gif)
+    except ImportError as exc:
+        raise click.ClickException(str(exc).splitlines()[0]) from None
+    except (TentaclassError, ValueError, OSError) as exc:
+        raise click.UsageError(str(exc).splitlines()[0] if str(exc) else repr(exc)) from None
+    if as_json:
+        click.echo(json.dumps({
+            "angles": g.angles.tolist(), "joints": g.joints.tolist(),
+            "contact": g.contact.tolist(), "link_length": link_length, "laps": g.laps,
+            "offset_links": g.offset_links, "complete": g.complete, "reason": g.reason,
+            "sim_time": g.sim_time,
+            "grasp": {"state": state.state.item(), "laps": float(state.laps),
+                      "offset_links": int(state.offset_links)},
+        }))  # fmt: skip
+        return
+    click.echo(" ".join(f"{a:.10g}" for a in g.angles))
+    note = "" if g.complete else f" (incomplete: {g.reason})"
+    click.echo(f"grasp: {state.state.item()}, {float(state.laps):.2f} laps, offset "
+               f"{int(state.offset_links)} links, {g.sim_time:.2f} s simulated{note}",
+               err=True)  # fmt: skip

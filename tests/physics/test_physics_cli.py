@@ -1,0 +1,57 @@
+"""``tentaclass grasp``: angles on stdout, the grasp state on stderr, figures, one-line errors."""
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
+
+from tentaclass.cli.main import cli
+from tentaclass.cli.options import parse_angle_list
+
+
+def run(args):
+    return CliRunner().invoke(cli, ["grasp", *args], catch_exceptions=False)
+
+
+def test_square_prints_angles_that_classify_reads_and_the_state(tmp_path):
+    gif, png = tmp_path / "grasp.gif", tmp_path / "grasp.png"
+    r = run(["--shape", "square", "--links", "16", "--gif", str(gif), "--plot", str(png)])
+    assert r.exit_code == 0, r.output
+    q = parse_angle_list(r.stdout)
+    assert q.shape == (16,) and abs(q.sum() - 2 * np.pi) < 0.7
+    assert r.stderr.startswith("grasp: ")
+    assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a") and png.stat().st_size > 0
+    c = CliRunner().invoke(cli, ["classify", r.stdout.strip()], catch_exceptions=False)
+    assert c.exit_code == 0
+
+
+def test_json_and_mask(tmp_path):
+    from PIL import Image
+
+    img = np.zeros((60, 60), np.uint8)
+    img[15:45, 10:50] = 255
+    path = tmp_path / "mask.png"
+    Image.fromarray(img).save(path)
+    r = run(["--mask", str(path), "--links", "20", "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.stdout)
+    assert len(out["angles"]) == 20 and out["complete"] is True
+    assert out["grasp"]["state"] in ("partial", "once", "multiple")
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--shape", "polygon", "--vertices", "0,0 1,1 1,0 0,1"], "intersects itself"),
+        (["--shape", "square", "--mask", "nope.png"], "nope.png"),
+        (["--links", "0"], "links"),
+    ],
+)
+def test_errors_are_one_line(args, message):
+    r = run(args)
+    assert r.exit_code != 0
+    assert message in r.output and "Traceback" not in r.output
+    assert len(r.output.strip().splitlines()[-1]) > 0

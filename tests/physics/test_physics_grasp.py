@@ -1,0 +1,168 @@
+"""Physical grasps in MuJoCo: result type, classification, concavities, grasp state, bad input."""
+
+import numpy as np
+import pytest
+import shapely
+
+pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
+
+from tentaclass import (
+    PlanarChain,
+    ShiftNNClassifier,
+    Wrap,
+    angles_to_points,
+    grasp_state,
+)
+from tentaclass.datasets import synthetic_tentacle
+from tentaclass.errors import InputError
+from tentaclass.physics import CurlController, PhysicalGrasp, grasp, grasp_many
+from tentaclass.shapes import circle, polygon, rectangle, square, triangle
+
+#: A C whose upper arm is shorter than its lower one: the opening between the
+#: lip corners (6, 1) and (4, 3) is 2.83 wide, the slot behind it 2 high.
+C_SHAPE = polygon([(0, 0), (6, 0), (6, 1), (2, 1), (2, 3), (4, 3), (4, 4), (0, 4)])
+
+
+@pytest.fixture(scope="module")
+def recogniser():
+    """Trained only on geometric wraps of the four thesis classes.
+
+    The polygon matcher closed by its gap chord: physical chains close less of
+    a lap than geometric ones (rigid links overhang corners).
+    """
+    d = synthetic_tentacle(600, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0), seed=3)
+    return ShiftNNClassifier(signal="shape", closure="chord").fit(d.data, d.target)
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("offset", [0.0, 2.0])
+def test_result_is_a_wrap_that_rebuilds_its_joints(direction, offset):
+    g = grasp(square(3.0), PlanarChain([0.5] * 24), start=0.3, direction=direction, offset=offset)
+    assert isinstance(g, Wrap) and isinstance(g, PhysicalGrasp)
+    assert g.complete, g.reason
+    assert g.angles.shape == (24,) and g.joints.shape == (25, 2)
+    assert g.contact.shape == g.lap.shape == (25,)
+    rebuilt = angles_to_points(g.angles, 0.5, base=g.joints[0], heading=g.heading)
+    np.testing.assert_allclose(rebuilt, g.joints, atol=1e-6)
+    assert np.sign(g.angles.sum()) == (1 if direction == "ccw" else -1)
+    assert g.offset_links == (4 if offset else 0)
+    # no joint inside the object, contact joints on its surface (links are 0.05 thick)
+    body = shapely.Polygon(square(3.0))
+    dist = shapely.distance(shapely.points(g.joints), body)
+    assert np.all(dist > 0)
+    assert g.contact.any() and np.all(dist[g.contact] < 0.05)
+    if offset:
+        assert np.allclose(g.angles[:3], 0.0, atol=0.05)  # the approach stays straight
+        state = grasp_state(g.angles)
+        assert state.offset_links.item() == 4
+
+
+@pytest.mark.parametrize(
+    ("outline", "label"), [(square(3.6), "square"), (circle(16 / (2 * np.pi)), "circle")]
+)
+def test_square_and_circle_grasped_and_classified(outline, label, recogniser):
+    g = grasp(outline, PlanarChain([1.0] * 16), start=0.37)
+    assert g.complete, g.reason
+    assert 0.7 < g.laps < 1.3
+    assert recogniser.predict(g.angles[None])[0] == label
+
+
+def test_c_shape_opening_entered_only_when_a_link_fits():
+    hull = shapely.convex_hull(shapely.Polygon(C_SHAPE))
+    body = shapely.Polygon(C_SHAPE)
+    opening = shapely.difference(hull, body)
+
+    def joints_in_opening(ln, n):
+        g = grasp(C_SHAPE, PlanarChain([ln] * n), start=0.02)
+        assert g.complete, g.reason
+        return int(np.sum(shapely.contains_xy(opening, *g.joints.T)))
+
+    assert joints_in_opening(0.5, 30) >= 5  # short links follow the slot
+    assert joints_in_opening(3.5, 6) == 0  # links longer than the opening bridge it
+
+
+def _true_state(g):
+    """State from the simulation's own lap count (it knows the offset and direction)."""
+    return "partial" if g.laps < 0.9 else ("once" if g.laps <= 1.1 else "multiple")
+
+
+def _random_grasps(n, seed):
+    rng = np.random.default_rng(seed)
+    makers = [lambda s: square(s), lambda s: circle(s / 2), lambda s: rectangle(1.5 * s, s),
+              lambda s: triangle(side=1.5 * s)]  # fmt: skip
+    out = []
+    for i in range(n):
+        o = makers[i % 4](1.0)
+        target = [0.6, 1.0, 1.7][i % 3]
+        off = float(rng.choice([0.0, 0.0, 2.0]))
+        o = o * ((16 - off) / target / shapely.Polygon(o).length)
+        out.append((o, float(rng.uniform(0, 1)), off, str(rng.choice(["ccw", "cw"]))))
+    return out
+
+
+def _state_agreement(cases):
+    """Fraction of grasps whose state and offset grasp_state reads right."""
+    chain = PlanarChain([1.0] * 16)
+    right = 0
+    for o, s, off, d in cases:
+        g = grasp(o, chain, start=s, offset=off, direction=d)
+        st = grasp_state(g.angles)  # from the angles alone
+        right += st.state.item() == _true_state(g) and st.offset_links.item() == g.offset_links
+    return right / len(cases)
+
+
+def test_grasp_state_on_physical_grasps_quick():
+    assert _state_agreement(_random_grasps(12, seed=5)) >= 0.9
+
+
+@pytest.mark.slow
+def test_grasp_state_on_200_physical_grasps():
+    assert _state_agreement(_random_grasps(200, seed=7)) >= 0.95
+
+
+def test_grasp_many_matches_single_grasps():
+    chain = PlanarChain([0.5] * 12)
+    outs = [square(2.0), triangle(side=3.0)]
+    many = grasp_many(outs, chain, [0.1, 0.6], direction=["ccw", "cw"], n_jobs=2)
+    for o, s, d, g in zip(outs, [0.1, 0.6], ["ccw", "cw"], many, strict=True):
+        one = grasp(o, chain, start=s, direction=d)
+        np.testing.assert_allclose(g.angles, one.angles)
+
+
+def test_frames_record_the_closing():
+    g = grasp(square(2.0), PlanarChain([0.5] * 12), frames=5)
+    assert g.frames.ndim == 3 and g.frames.shape[1:] == (13, 2) and len(g.frames) > 3
+    np.testing.assert_allclose(g.frames[-1], g.joints)
+
+
+def test_unreachable_and_time_limit_are_flagged_incomplete():
+    far = grasp(square(2.0), PlanarChain([1.0] * 8), offset=10.0)
+    assert not far.complete and "cannot reach" in far.reason
+    short = grasp(square(2.0), PlanarChain([0.5] * 12), time_limit=0.05)
+    assert not short.complete and "time limit" in short.reason
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"outline": [(0, 0), (1, 1), (1, 0), (0, 1)]}, "intersects itself"),
+        ({"outline": [(0, 0), (1, 1), (2, 2)]}, "zero area"),
+        ({"start": 1.0}, "start"),
+        ({"offset": -1.0}, "offset"),
+        ({"direction": "up"}, "direction"),
+        ({"chain": [1.0] * 4}, "PlanarChain"),
+        ({"controller": "curl"}, "CurlController"),
+        ({"outline": C_SHAPE, "start": 0.45, "offset": 5.0}, "passes through"),
+    ],
+)
+def test_bad_input(kwargs, match):
+    args = {"outline": square(2.0), "chain": PlanarChain([0.5] * 8)} | kwargs
+    outline, chain = args.pop("outline"), args.pop("chain")
+    with pytest.raises(InputError, match=match):
+        grasp(outline, chain, **args)
+
+
+def test_controller_speed_does_not_change_a_square_much():
+    a = grasp(square(3.0), PlanarChain([0.5] * 24))
+    b = grasp(square(3.0), PlanarChain([0.5] * 24), controller=CurlController(speed=10.0))
+    assert abs(a.laps - b.laps) < 0.05
