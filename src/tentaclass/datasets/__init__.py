@@ -2,7 +2,7 @@
 
 from ._drawn import DRAWN_CLASSES, drawn_shapes
 from ._thesis import THESIS_CLASSES, reference_tentacle, thesis_scanner, thesis_tentacle
-from ._ucr import UCR_SHAPES, ucr_shapes
+from ._ucr import UCR_SHAPES, load_ucr, ucr_shapes
 from ._wraps import mpeg7_tentacle, synthetic_tentacle
 
 __all__ = [
@@ -10,6 +10,7 @@ __all__ = [
     "THESIS_CLASSES",
     "UCR_SHAPES",
     "drawn_shapes",
+    "load_ucr",
     "mpeg7_tentacle",
     "reference_tentacle",
     "synthetic_tentacle",

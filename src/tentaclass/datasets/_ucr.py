@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 from sklearn.utils import Bunch
 
@@ -50,4 +53,122 @@ def ucr_shapes(name: str) -> Bunch:
         target=np.concatenate([p[1] for p in parts]),
         split=np.concatenate([np.full(len(p[1]), p[2]) for p in parts]),
         DESCR=f"UCR {name}, official split, from the copy aeon ships.",
+    )
+
+
+def _read_tsv(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    rows = [line.rstrip("\n").split("\t") for line in path.read_text().splitlines() if line.strip()]
+    if not rows:
+        raise InputError(f"{path}: no series in the file")
+    lengths = {len(r) for r in rows}
+    if len(lengths) != 1:
+        raise InputError(f"{path}: series of different lengths ({sorted(lengths)[:5]} values)")
+    labels = np.array([r[0].strip() for r in rows])
+    try:
+        data = np.array([[float(v) for v in r[1:]] for r in rows])
+    except ValueError as exc:
+        raise InputError(f"{path}: a value is not a number ({exc})") from None
+    return data, labels
+
+
+def _read_ts(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    data, labels, in_data = [], [], False
+    for line in path.read_text().splitlines():
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        if line.lower().startswith("@data"):
+            in_data = True
+            continue
+        if line.startswith("@"):
+            if line.lower().startswith("@univariate") and line.split()[-1].lower() == "false":
+                raise InputError(f"{path}: multivariate .ts files are not supported")
+            continue
+        if in_data:
+            *dims, label = line.split(":")
+            if len(dims) != 1:
+                raise InputError(f"{path}: multivariate .ts files are not supported")
+            try:
+                data.append([float(v) for v in dims[0].split(",")])
+            except ValueError as exc:
+                raise InputError(f"{path}: a value is not a number ({exc})") from None
+            labels.append(label.strip())
+    if not data:
+        raise InputError(f"{path}: no @data section with series")
+    lengths = {len(r) for r in data}
+    if len(lengths) != 1:
+        raise InputError(f"{path}: series of different lengths ({sorted(lengths)[:5]})")
+    return np.array(data), np.array(labels)
+
+
+def load_ucr(path: str | os.PathLike, name: str | None = None) -> Bunch:
+    r"""A UCR / UEA univariate data set from disk, with its official split.
+
+    Parameters
+    ----------
+    path : path-like
+        The archive's folder (holding ``NAME/NAME_TRAIN.tsv``), the data set's
+        own folder, or one ``_TRAIN`` file; ``.tsv`` (UCR 2018: label, then
+        the values, tab-separated) and ``.ts`` (sktime / aeon) are read.
+    name : str, optional
+        The data set (``"ArrowHead"``); default: the folder's or file's name.
+
+    Returns
+    -------
+    data : Bunch
+        ``data`` (n_samples, n_timepoints) float, ``target`` (n_samples,) str,
+        ``split`` (n_samples,) ``"train"`` or ``"test"``.
+
+    Raises
+    ------
+    InputError
+        No such data set, a file in another format, values that are not
+        numbers or NaN, series of different lengths.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp()) / "Toy"
+    >>> d.mkdir()
+    >>> _ = (d / "Toy_TRAIN.tsv").write_text("1\t0\t1\t2\n2\t2\t1\t0\n")
+    >>> _ = (d / "Toy_TEST.tsv").write_text("1\t0\t1\t3\n")
+    >>> b = load_ucr(d)
+    >>> b.data.shape, b.target.tolist(), b.split.tolist()
+    ((3, 3), ['1', '2', '1'], ['train', 'train', 'test'])
+    """
+    p = Path(path)
+    if p.is_file():
+        stem = p.stem.rsplit("_", 1)[0]
+        folder, name = p.parent, name or stem
+    elif p.is_dir():
+        if name and (p / name).is_dir():
+            folder = p / name
+        else:
+            folder, name = p, name or p.name
+    else:
+        raise InputError(f"{path}: no such file or folder")
+    parts = []
+    for split in ("train", "test"):
+        for ext, reader in ((".tsv", _read_tsv), (".ts", _read_ts)):
+            f = folder / f"{name}_{split.upper()}{ext}"
+            if f.is_file():
+                X, y = reader(f)
+                break
+        else:
+            raise InputError(
+                f"{folder}: no {name}_{split.upper()}.tsv or .ts file (UCR / UEA format)"
+            )
+        if not np.all(np.isfinite(X)):
+            raise InputError(f"{f}: {int(np.sum(~np.isfinite(X)))} NaN or infinite value(s)")
+        parts.append((X, y, split))
+    if parts[0][0].shape[1] != parts[1][0].shape[1]:
+        raise InputError(
+            f"{name}: train and test series differ in length "
+            f"({parts[0][0].shape[1]} and {parts[1][0].shape[1]})"
+        )
+    return Bunch(
+        data=np.concatenate([q[0] for q in parts]),
+        target=np.concatenate([q[1] for q in parts]),
+        split=np.concatenate([np.full(len(q[1]), q[2]) for q in parts]),
+        DESCR=f"{name} from {folder}, official train/test split.",
     )

@@ -1,0 +1,67 @@
+import numpy as np
+import pytest
+from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from tentaclass.classifiers import OutlineClassifier
+
+pytest.importorskip("aeon", reason="OutlineClassifier needs the outline extra (aeon)")
+
+
+def _lobes(n_per_class=6, n=64, seed=0):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    X, y = [], []
+    for k in (2, 3, 5):
+        for _ in range(n_per_class):
+            X.append(
+                np.cos(k * t + rng.uniform(0, 2 * np.pi))
+                + 0.3 * np.cos(t)
+                + 0.05 * rng.normal(size=n)
+            )
+            y.append(f"k{k}")
+    return np.array(X), np.array(y)
+
+
+def test_recognises_shifted_and_mirrored_series():
+    X, y = _lobes()
+    clf = OutlineClassifier(random_state=0).fit(X, y)
+    Xq, yq = _lobes(seed=1)
+    Xq = np.array([np.roll(x, 11 * i)[:: (-1) ** i] for i, x in enumerate(Xq)])
+    assert np.mean(clf.predict(Xq) == yq) >= 0.95
+    p = clf.predict_proba(Xq)
+    np.testing.assert_allclose(p.sum(axis=1), 1.0)
+    assert set(clf.weights_) == {"rocket", "shift_nn"}
+    assert abs(sum(clf.weights_.values()) - 1) < 1e-12
+
+
+def test_same_seed_same_model():
+    X, y = _lobes()
+    a = OutlineClassifier(random_state=3).fit(X, y).predict_proba(X)
+    b = OutlineClassifier(random_state=3).fit(X, y).predict_proba(X)
+    np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize(
+    ("X", "y", "match"),
+    [
+        (np.full((4, 20), np.nan), [0, 0, 1, 1], "NaN"),
+        (np.ones((4, 20)), [0, 0, 1, 1], "constant"),
+        (np.random.default_rng(0).normal(size=(4, 20)), [0, 0, 0, 0], "one class"),
+    ],
+)
+def test_bad_input(X, y, match):
+    with pytest.raises(ValueError, match=match):
+        OutlineClassifier().fit(X, y)
+
+
+def test_query_of_another_length_is_refused():
+    X, y = _lobes()
+    clf = OutlineClassifier(random_state=0).fit(X, y)
+    with pytest.raises(ValueError, match="features"):
+        clf.predict(X[:, :32])
+
+
+@pytest.mark.slow
+@parametrize_with_checks([OutlineClassifier(random_state=0)])
+def test_sklearn_compatible(estimator, check):
+    check(estimator)
