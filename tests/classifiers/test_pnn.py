@@ -2,18 +2,10 @@ import numpy as np
 import pytest
 from scipy.spatial.distance import cdist
 from sklearn.model_selection import GridSearchCV, cross_val_score
-from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import tentaclass.classifiers._pnn as pnn_module
 from tentaclass.classifiers import PNNClassifier, TentacleClassifier
 from tentaclass.datasets import thesis_tentacle
-
-
-@parametrize_with_checks(
-    [PNNClassifier(), PNNClassifier(spread=2.0), PNNClassifier(spread="auto", dtype="float32")]
-)
-def test_sklearn_compatible(estimator, check):
-    check(estimator)
 
 
 def reference_scores(X_train, y_train, X, spread):

@@ -144,9 +144,11 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         X, y = validate_data(self, X, y, dtype=np.float64)
-        if self.signal != "raw" and X.shape[1] < 3:
+        least = 3 if (self.signal == "shape" and self.closure == "chord") else 2
+        if self.signal != "raw" and X.shape[1] < least:
             raise InputError(
-                f"signal={self.signal!r} needs at least 3 joint angles, got {X.shape[1]}"
+                f"signal={self.signal!r} needs at least {least} joint angles, "
+                f"got {X.shape[1]} feature(s)"
             )
         check_classification_targets(y)
         self.classes_, self._y = np.unique(y, return_inverse=True)

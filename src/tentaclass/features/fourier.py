@@ -167,7 +167,8 @@ def fourier_features(
     Parameters
     ----------
     q : array_like of shape (..., n_joints)
-        Relative joint angles, at least 3. Leading axes are a batch.
+        Relative joint angles, at least 2 (two links out and back are the
+        smallest closed chain). Leading axes are a batch.
     n_coeffs : int, optional
         Keep frequencies ``1..n_coeffs``; default all of ``1..floor(n_joints/2)``.
     detrend : bool, default=False
@@ -210,7 +211,7 @@ def fourier_features(
     >>> bool(np.allclose(f, fourier_features(-square[::-1])))
     True
     """
-    q = as_angle_array(q, "q", min_joints=3)
+    q = as_angle_array(q, "q", min_joints=2)
     period = check_positive_float(period, "period")
     n = q.shape[-1]
     if n_coeffs is None:

@@ -86,8 +86,10 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
         """
         X = validate_data(self, X, dtype=np.float64)
         n = X.shape[1]
-        if n < 3:
-            raise InputError(f"X must hold at least 3 joint angles per row, got {n}")
+        if n < 2:
+            raise InputError(
+                f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
+            )
         k = n // 2 if self.n_coeffs is None else self.n_coeffs
         self.n_coeffs_ = check_frequency_count(k, n // 2, "n_coeffs", "floor(n_joints / 2)")
         check_finite_float(self.weight_power, "weight_power")
@@ -158,9 +160,12 @@ class LastLap(TransformerMixin, BaseEstimator):
         self : LastLap
         """
         X = validate_data(self, X, dtype=np.float64)
-        if X.shape[1] < 3:
-            raise InputError(f"X must hold at least 3 joint angles per row, got {X.shape[1]}")
-        self.n_out_ = X.shape[1] if self.n_out is None else int(self.n_out)
+        n = X.shape[1]
+        if n < 2:
+            raise InputError(
+                f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
+            )
+        self.n_out_ = n if self.n_out is None else check_positive_int(self.n_out, "n_out", minimum=2)
         return self
 
     def transform(self, X: ArrayLike) -> FloatArray:
