@@ -7,6 +7,7 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
+from typing import Any
 
 import numpy as np
 
@@ -98,9 +99,12 @@ def check_positive_float(value: object, name: str, *, allow_zero: bool = False) 
 
 def check_finite_float(value: object, name: str) -> float:
     """A finite real number (not bool) of any sign."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} must be a finite number, got {value!r}")
-    return float(value)
+    v = float(value)
+    if not np.isfinite(v):
+        raise InputError(f"{name} must be a finite number, got {value!r}")
+    return v
 
 
 def check_frequency_count(value: object, top: int, name: str, top_text: str) -> int:
@@ -112,11 +116,11 @@ def check_frequency_count(value: object, top: int, name: str, top_text: str) -> 
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} must be a number, got {value!r}")
-    count = value
-    if isinstance(value, float) and not value.is_integer():
-        if not 0 < value < 1:
+    count = float(value)
+    if not count.is_integer():
+        if not 0 < count < 1:
             raise InputError(f"a fractional {name} must lie in (0, 1), got {value}")
-        count = max(1, round(value * top))
+        count = max(1, round(count * top))
     if not 1 <= count <= top:
         raise InputError(f"{name} must be between 1 and {top_text} = {top}, got {value!r}")
     return int(count)
@@ -138,3 +142,46 @@ def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
         bad = arr[~ok].ravel()[0]
         raise InputError(f"{name} must hold only 0 and 1, found {bad!r}")
     return arr.astype(bool)
+
+
+def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) -> np.ndarray:
+    """scikit-learn's ``validate_data`` for ``X`` alone, typed: the checked array.
+
+    Records (``reset=True``) or checks ``n_features_in_`` on ``estimator``.
+    """
+    from sklearn.utils.validation import validate_data
+
+    return validate_data(estimator, X, reset=reset, **kwargs)
+
+
+def check_X_y(
+    estimator: Any, X: ArrayLike, y: ArrayLike, **kwargs: Any
+) -> tuple[np.ndarray, np.ndarray]:
+    """scikit-learn's ``validate_data`` for a training set ``(X, y)``, typed."""
+    from sklearn.utils.validation import validate_data
+
+    return validate_data(estimator, X, y, **kwargs)
+
+
+def check_spread(value: object, name: str = "spread", *, minimum: float = 1e-150) -> float | str:
+    """A kernel width: ``"auto"`` or a finite number of at least ``minimum``.
+
+    The default ``minimum`` keeps ``(1 / spread) ** 2`` finite in float64.
+    """
+    if isinstance(value, str) and value == "auto":
+        return value
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be 'auto' or a finite number > 0, got {value!r}")
+    v = float(value)
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(f"{name} must be 'auto' or a finite number > 0, got {value!r}")
+    if v < minimum:
+        raise InputError(f"{name} {value!r} is too small: it must be at least {minimum:g}")
+    return v
+
+
+def check_fraction(value: object, name: str) -> float:
+    """A number in ``[0, 1]`` (not bool)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 <= float(value) <= 1:
+        raise InputError(f"{name} must be a number in [0, 1], got {value!r}")
+    return float(value)

@@ -450,7 +450,8 @@ class PlanarChain:
         rhs = -_dyn.rnea(q, qd, None, *self._params(), self.gravity)
         if tau is not None:
             rhs += tau
-        return np.linalg.solve(_dyn.crba(q, *self._params()), rhs[..., None])[..., 0]
+        qdd = np.linalg.solve(_dyn.crba(q, *self._params()), rhs[..., None])[..., 0]
+        return np.asarray(qdd, dtype=np.float64)
 
     def energy(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
         """Total mechanical energy: kinetic ``qd^T H qd / 2`` plus potential.

@@ -11,15 +11,36 @@ it drew and never calls ``plt.show()``.
 - :mod:`tentaclass.plot.scanner`: an inspected object, a belt with its objects.
 """
 
-from .features import (
-    plot_features,
-    plot_periodic_signal,
-    plot_shape,
-    plot_thesis_panel,
-    plot_turning,
-)
-from .scanner import plot_belt, plot_inspection, save_belt_figure
-from .wrapping import grasp_spectrum, plot_capture_error, plot_grasp_spectra, plot_wrap
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from .features import (
+        plot_features,
+        plot_periodic_signal,
+        plot_shape,
+        plot_thesis_panel,
+        plot_turning,
+    )
+    from .scanner import plot_belt, plot_inspection, save_belt_figure
+    from .wrapping import grasp_spectrum, plot_capture_error, plot_grasp_spectra, plot_wrap
+
+_HOME = {
+    "grasp_spectrum": "wrapping",
+    "plot_belt": "scanner",
+    "plot_capture_error": "wrapping",
+    "plot_features": "features",
+    "plot_grasp_spectra": "wrapping",
+    "plot_inspection": "scanner",
+    "plot_periodic_signal": "features",
+    "plot_shape": "features",
+    "plot_thesis_panel": "features",
+    "plot_turning": "features",
+    "plot_wrap": "wrapping",
+    "save_belt_figure": "scanner",
+}
+__getattr__, __dir__ = lazy_exports(__name__, _HOME, globals())
 
 __all__ = [
     "grasp_spectrum",

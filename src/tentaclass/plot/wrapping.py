@@ -1,13 +1,13 @@
 """Figures of wraps: the tentacle on its object, grasping spectra, sampling error.
 
-matplotlib is imported lazily; every function takes ``ax=None`` (a new figure)
+matplotlib is imported lazily; every function takes ``ax`` (None: a new figure)
 and returns its artists, and never calls ``plt.show()``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -15,10 +15,13 @@ from .._typing import ArrayLike
 from ..shapes import as_outline
 from ..wrapping import Wrap
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
 __all__ = ["grasp_spectrum", "plot_capture_error", "plot_grasp_spectra", "plot_wrap"]
 
 
-def _axes(ax):
+def _axes(ax: Axes | None) -> Axes:
     if ax is None:
         import matplotlib.pyplot as plt
 
@@ -26,7 +29,7 @@ def _axes(ax):
     return ax
 
 
-def plot_wrap(w: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, Any]:
+def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any) -> dict[str, Any]:
     """Draw the object and the chain on it: links, joints, contacts and the base.
 
     Parameters
@@ -59,10 +62,11 @@ def plot_wrap(w: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, 
     ax = _axes(ax)
     p = as_outline(outline)
     obj = ax.add_patch(Polygon(p, closed=True, facecolor="0.85", edgecolor="0.4", lw=0.8))
-    style = {"color": "tab:red", "lw": 1.5, "label": "links"} | kwargs
+    style: dict[str, Any] = {"color": "tab:red", "lw": 1.5, "label": "links"} | kwargs
     (links,) = ax.plot(w.joints[:, 0], w.joints[:, 1], **style)
-    joints = ax.scatter(*w.joints[1:].T, s=12, color="tab:red", zorder=3, label="joints")
-    contacts = ax.scatter(*w.joints[w.contact].T, s=30, facecolors="none",
+    xy, touching = w.joints[1:], w.joints[w.contact]
+    joints = ax.scatter(xy[:, 0], xy[:, 1], s=12, color="tab:red", zorder=3, label="joints")
+    contacts = ax.scatter(touching[:, 0], touching[:, 1], s=30, facecolors="none",
                           edgecolors="tab:blue", zorder=4, label="contacts")  # fmt: skip
     (base,) = ax.plot(*w.joints[0], "ks", ms=7, label="base")
     ax.set_aspect("equal")
@@ -87,7 +91,9 @@ def grasp_spectrum(q: ArrayLike) -> np.ndarray:
     return np.abs(np.fft.fft(e, axis=-1))[..., 1 : n // 2 + 1]
 
 
-def plot_grasp_spectra(arrays: Mapping[str, ArrayLike], ax=None, **kwargs: Any) -> list[Any]:
+def plot_grasp_spectra(
+    arrays: Mapping[str, ArrayLike], ax: Axes | None = None, **kwargs: Any
+) -> list[Any]:
     """Grouped bar chart of :func:`grasp_spectrum` for several joint-angle arrays.
 
     Parameters
@@ -118,7 +124,7 @@ def plot_grasp_spectra(arrays: Mapping[str, ArrayLike], ax=None, **kwargs: Any) 
 
 def plot_capture_error(
     curves: Mapping[str, tuple[Sequence[float], Sequence[float]]],
-    ax=None,
+    ax: Axes | None = None,
     marks: Mapping[str, Sequence[float]] | None = None,
     **kwargs: Any,
 ) -> dict[str, Any]:
@@ -141,11 +147,12 @@ def plot_capture_error(
     for label, (x, y) in curves.items():
         (out[label],) = ax.plot(x, y, marker=".", label=label, **kwargs)
     for label, xs in (marks or {}).items():
-        for j, x in enumerate(xs):
+        for j, x_mark in enumerate(xs):
             out[f"mark: {label}" + (f" {j}" if j else "")] = ax.axvline(
-                x, color="0.5", ls=":", lw=1)  # fmt: skip
-            ax.annotate(label, (x, 1), xycoords=("data", "axes fraction"), fontsize=8,
-                        ha="center", va="bottom")  # fmt: skip
+                x_mark, color="0.5", ls=":", lw=1)  # fmt: skip
+            # inside the axes, just below the top: clear of the title above
+            ax.annotate(label, (x_mark, 0.98), xycoords=("data", "axes fraction"), fontsize=8,
+                        xytext=(3, 0), textcoords="offset points", ha="left", va="top")  # fmt: skip
     ax.set_xlabel("link length / object size")
     ax.set_ylabel("Hausdorff error / diameter")
     ax.legend()
