@@ -63,7 +63,7 @@ class TentacleClassifier(ClassifierMixin, TransformerMixin, BaseEstimator):
 
     def __init__(
         self,
-        n_coeffs: int | None = None,
+        n_coeffs: int | float | None = None,
         detrend: bool = False,
         normalize: bool = False,
         weight_power: float = 0.0,

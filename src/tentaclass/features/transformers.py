@@ -61,7 +61,7 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
 
     def __init__(
         self,
-        n_coeffs: int | None = None,
+        n_coeffs: int | float | None = None,
         detrend: bool = False,
         normalize: bool = False,
         weight_power: float = 0.0,

@@ -123,7 +123,7 @@ def plot_grasp_spectra(
 
 
 def plot_capture_error(
-    curves: Mapping[str, tuple[Sequence[float], Sequence[float]]],
+    curves: Mapping[str, tuple[ArrayLike, ArrayLike]],
     ax: Axes | None = None,
     marks: Mapping[str, Sequence[float]] | None = None,
     **kwargs: Any,

@@ -309,11 +309,11 @@ def features_matrix(
             rings = [np.asarray(g.hull.exterior.coords)[:-1] for g in geoms]
             parts.append(_outlines_fourier(rings, n_points, n_coeffs))
         elif group == "outline":
-            rings = [_outline_ring(g) for g in geoms]
-            ok = [i for i, r in enumerate(rings) if r is not None]
+            found = [(i, r) for i, g in enumerate(geoms) if (r := _outline_ring(g)) is not None]
             block = np.zeros((n, n_coeffs))
-            if ok:
-                block[ok] = _outlines_fourier([rings[i] for i in ok], n_points, n_coeffs)
+            if found:
+                ok = [i for i, _ in found]
+                block[ok] = _outlines_fourier([r for _, r in found], n_points, n_coeffs)
             parts.append(block)
         elif group == "region":
             parts.append(np.array([_region_features(g) for g in geoms]).reshape(n, -1))

@@ -252,10 +252,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         (3.5, 3.5)
         """
         check_is_fitted(self)
-        return {
-            str(c): tuple(float(v) for v in np.median(self.sizes_[self.labels_ == c], axis=0))
-            for c in self.classes_
-        }
+        medians = {str(c): np.median(self.sizes_[self.labels_ == c], axis=0) for c in self.classes_}
+        return {c: (float(m[0]), float(m[1])) for c, m in medians.items()}
 
     # -- files -------------------------------------------------------------------------------
     def save(self, path: str | Path) -> None:

@@ -388,10 +388,10 @@ def make_belt(
         placed.append((top, lane * lane_w, crop))
         lane_end[lane] = top + crop.shape[0]
     image = np.zeros((int(lane_end.max()) + int(gap[0]) + 1, width), dtype=bool)
-    boxes = []
+    box_rows = []
     for top, left, crop in placed:
         image[top : top + crop.shape[0], left : left + crop.shape[1]] |= crop
         cols = np.nonzero(crop.any(axis=0))[0]
-        boxes.append((top, left + cols[0], top + crop.shape[0], left + cols[-1] + 1))
-    boxes = np.array(boxes, dtype=int).reshape(-1, 4)
+        box_rows.append((top, left + cols[0], top + crop.shape[0], left + cols[-1] + 1))
+    boxes = np.array(box_rows, dtype=int).reshape(-1, 4)
     return Bunch(image=image, target=objs.target, damaged=objs.damaged, boxes=boxes)
