@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import json
-from typing import Any
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -119,8 +119,8 @@ def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path |
 
     try:
         outline = _outline(shape, size, vertices, mask)
-        kw: dict[str, Any] = {"start": start, "direction": direction, "mode": mode, "offset": offset,
-              "thickness": thickness}  # fmt: skip
+        kw: dict[str, Any] = {"start": start, "direction": direction, "mode": mode,
+                              "offset": offset, "thickness": thickness}  # fmt: skip
         if laps is not None:
             if link_length is not None:
                 raise click.UsageError("give either --link-length or --laps, not both")
