@@ -132,3 +132,13 @@ def test_errors_are_library_errors():
         angles_to_points(1.0)
     with pytest.raises(InputError):
         points_to_angles([(0, 0), (np.inf, 0), (0, 1)])
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300, 1.0])
+def test_points_to_angles_does_not_depend_on_scale(scale):
+    # found by fuzzing: cross and dot products overflowed to NaN at 1e300
+    p = np.array([[0, 0], [0.5, 1], [1, 2], [0, 3]])
+    np.testing.assert_allclose(points_to_angles(p * scale), points_to_angles(p), atol=1e-12)
+    np.testing.assert_allclose(
+        points_to_angles(p * scale, closed=False), points_to_angles(p, closed=False), atol=1e-12
+    )

@@ -126,9 +126,19 @@ def check_frequency_count(value: object, top: int, name: str, top_text: str) -> 
     return int(count)
 
 
+def as_rectangular_array(x: ArrayLike, name: str) -> np.ndarray:
+    """``np.asarray(x)``, with an error naming ``name`` when rows differ in length."""
+    try:
+        return np.asarray(x)
+    except ValueError as exc:
+        raise ShapeError(
+            f"{name} must be a rectangular array; its rows differ in length ({exc})"
+        ) from exc
+
+
 def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
     """Binary image of shape ``(..., rows, cols)``: bool, or numbers that are all 0 or 1."""
-    arr = np.asarray(grid)
+    arr = as_rectangular_array(grid, name)
     if arr.ndim < 2:
         raise ShapeError(f"{name} must have at least 2 dimensions, got shape {arr.shape}")
     if arr.size == 0:

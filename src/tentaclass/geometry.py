@@ -135,6 +135,10 @@ def points_to_angles(
     True
     """
     p = as_points_array(points, "points", min_points=2)
+    # Turning angles do not change with scale: scale each outline by a power of
+    # two so that the products below neither overflow nor underflow.
+    peak = np.abs(p).max(axis=(-2, -1), keepdims=True)
+    p = p / np.ldexp(1.0, np.frexp(np.where(peak > 0, peak, 1.0))[1])
     if closed:
         if p.shape[-2] > 3 and np.all(p[..., 0, :] == p[..., -1, :]):
             p = p[..., :-1, :]

@@ -207,3 +207,15 @@ def test_transformer_option_types(kwargs, match, rng):
         return
     with pytest.raises(ValueError, match=match):
         FourierFeatures(**kwargs).fit(X)
+
+
+def test_huge_angles_give_finite_features_that_scale():
+    # found by fuzzing: the squared real and imaginary parts overflowed
+    one = np.r_[1.0, np.zeros(17)]
+    huge = np.stack([1e300 * one, one])
+    assert np.all(np.isfinite(fourier_features(huge)))
+    for method in ("matmul", "fft"):
+        # with detrend the signal is linear in q: features scale with it
+        f = fourier_features(huge, detrend=True, method=method)
+        ref = fourier_features(one, detrend=True, method=method)
+        np.testing.assert_allclose(f, [1e300 * ref, ref], rtol=1e-12)

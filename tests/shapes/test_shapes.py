@@ -146,3 +146,25 @@ def test_load_mpeg7_missing_folder(tmp_path):
         shapes.load_mpeg7(tmp_path / "nope")
     with pytest.raises(InputError, match=r"no \.png"):
         shapes.load_mpeg7(tmp_path, cache=False)
+
+
+def test_from_mask_ragged_names_the_argument():
+    with pytest.raises(ShapeError, match="image must be a rectangular array"):
+        shapes.from_mask([[0, 1, 1], [1, 1]])
+
+
+def test_load_mpeg7_skips_unreadable_images_with_a_warning(tmp_path):
+    from PIL import Image
+
+    from tentaclass.errors import TentaclassWarning
+
+    img = np.zeros((20, 30), np.uint8)
+    img[5:15, 5:25] = 255
+    Image.fromarray(img).save(tmp_path / "bar-1.png")
+    Image.fromarray(img.T.copy()).save(tmp_path / "bar-2.png")
+    (tmp_path / "broken-1.png").write_bytes(b"not a png")
+    Image.fromarray(np.zeros((9, 9), np.uint8)).save(tmp_path / "empty-1.png")
+    with pytest.warns(TentaclassWarning, match=r"2 unreadable.*broken-1\.png.*empty-1\.png"):
+        outlines, labels, names = shapes.load_mpeg7(tmp_path, cache=False)
+    assert names == ["bar-1.png", "bar-2.png"] and labels.tolist() == ["bar", "bar"]
+    assert len(outlines) == 2
