@@ -8,7 +8,7 @@ from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._typing import ArrayLike, FloatArray
-from ..features.transformers import FourierFeatures
+from ..features import FourierFeatures
 from ._pnn import PNNClassifier
 
 __all__ = ["TentacleClassifier"]

@@ -15,10 +15,15 @@ import numpy as np
 
 from .._validation import as_binary_grid
 from ..errors import InputError
-from ..scanner.defects import expected_outline
-from ..scanner.descriptors import measure
-from ..scanner.model import ScannerModel, crop
-from ..scanner.records import Inspection, ScannedObject
+from ..scanner import (
+    Inspection,
+    ScannedObject,
+    ScannerModel,
+    crop,
+    expected_outline,
+    inspect,
+    measure,
+)
 
 __all__ = ["DEFECT_COLORS", "plot_belt", "plot_inspection", "save_belt_figure"]
 
@@ -83,7 +88,6 @@ def plot_inspection(
     """
     from matplotlib.patches import Rectangle
 
-    from ..scanner.inspection import inspect
 
     arr = as_binary_grid(grid, "grid")
     if arr.ndim != 2:

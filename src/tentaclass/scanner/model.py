@@ -21,9 +21,9 @@ from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from sklearn.neighbors import KNeighborsClassifier
 from sklearn.utils.validation import check_is_fitted
 
+from .._thesis_data import scanner_training_grids
 from .._validation import as_binary_grid, check_positive_int
 from ..classifiers import PNNClassifier
-from ..datasets import thesis_scanner
 from ..errors import InputError, ModelFileError
 from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure
 
@@ -401,10 +401,10 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
 def _default_model() -> ScannerModel:
     from .simulate import make_objects
 
-    d = thesis_scanner()
+    thesis_grids, thesis_target = scanner_training_grids()
     gen = make_objects(400, damaged_fraction=0.0, radius_range=(4.0, 28.0), seed=0)
-    grids = list(d.grids) + list(gen.grids)
-    labels = np.concatenate([d.target, gen.target])
+    grids = list(thesis_grids) + list(gen.grids)
+    labels = np.concatenate([thesis_target, gen.target])
     return ScannerModel().fit(grids, labels)
 
 

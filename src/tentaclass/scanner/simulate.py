@@ -17,8 +17,8 @@ from scipy import ndimage
 from skimage.draw import disk, polygon
 from sklearn.utils import Bunch, check_random_state
 
+from .._thesis_data import THESIS_CLASSES
 from .._validation import check_positive_float, check_positive_int
-from ..datasets import THESIS_CLASSES
 from ..errors import InputError
 
 __all__ = ["DAMAGE_KINDS", "draw_shape", "make_belt", "make_objects", "shape_polygon"]
