@@ -61,7 +61,7 @@ def angles_to_points(
 
     Notes
     -----
-    Forward kinematics of the planar chain (SPEC section 2):
+    Forward kinematics of the planar chain:
     ``phi_i = heading + sum_{j<=i} q_j`` and
     ``p_i = p_{i-1} + l_i (cos phi_i, sin phi_i)``.
 

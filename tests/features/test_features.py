@@ -195,7 +195,7 @@ def test_angle_spectrum_feature_names():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"n_coeffs": "half"}, "n_coeffs must be a number"),  # was a TypeError
+        ({"n_coeffs": "half"}, "n_coeffs must be a number"),
         ({"weight_power": "x"}, "weight_power must be a finite number"),
         ({"n_coeffs": 8.0}, None),  # an integral float counts frequencies
     ],

@@ -43,7 +43,7 @@ def test_bad_input():
         last_lap([0.1])
     with pytest.raises(ValueError, match="n_out"):
         last_lap(SQUARE, n_out=1)
-    with pytest.raises(ValueError, match="complex"):  # imaginary part was dropped
+    with pytest.raises(ValueError, match="complex"):  # the imaginary part must not be dropped
         last_lap(np.array([1j, 1.0, 1.0, 1.0]))
 
 

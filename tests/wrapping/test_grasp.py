@@ -39,7 +39,7 @@ def test_bad_input():
         grasp_state([0.0, np.nan, 1.0])
     with pytest.raises(InputError):
         grasp_state([[]])
-    with pytest.raises(InputError, match="complex"):  # imaginary part was dropped
+    with pytest.raises(InputError, match="complex"):  # the imaginary part must not be dropped
         grasp_state(np.array([1j, 1.0, 1.0, 1.0]))
     with pytest.raises(InputError, match="too many laps"):  # laps_rounded overflowed
         grasp_state(np.full(8, 1e300))

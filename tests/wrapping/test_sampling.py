@@ -74,5 +74,5 @@ def test_thin_rectangle_max_link_length_is_the_diameter():
 
 
 def test_capture_error_refuses_a_link_too_short_for_memory():
-    with pytest.raises(InputError, match="link_length .* too short"):
+    with pytest.raises(InputError, match=r"link_length .* too short"):
         capture_error(shapes.square(4), 1e-300)

@@ -88,7 +88,6 @@ def plot_inspection(
     """
     from matplotlib.patches import Rectangle
 
-
     arr = as_binary_grid(grid, "grid")
     if arr.ndim != 2:
         raise InputError(f"grid must be 2-D, got shape {arr.shape}")

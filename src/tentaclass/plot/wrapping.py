@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._typing import ArrayLike
+from ..features import fourier_features
 from ..shapes import as_outline
 from ..wrapping import Wrap
 
@@ -77,18 +78,16 @@ def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any
 def grasp_spectrum(q: ArrayLike) -> np.ndarray:
     """``|DFT(E)|`` at ``k = 1..n/2`` with ``E_k = t_k - 2 pi k / n`` (thesis eq 4.5).
 
-    Not start-point or direction normalised beyond the magnitude: partial,
-    single and multiple wraps differ in exactly this spectrum.
+    The Fourier features (:func:`tentaclass.fourier_features`) without mapping
+    clockwise wraps to counter-clockwise ones: partial, single and multiple
+    wraps differ in exactly this spectrum.
 
     Examples
     --------
     >>> bool(np.allclose(grasp_spectrum(np.full(16, np.pi / 8)), 0))
     True
     """
-    q = np.asarray(q, float)
-    n = q.shape[-1]
-    e = np.cumsum(q, axis=-1) - 2 * np.pi * np.arange(1, n + 1) / n
-    return np.abs(np.fft.fft(e, axis=-1))[..., 1 : n // 2 + 1]
+    return fourier_features(q, canonicalize=False)
 
 
 def plot_grasp_spectra(
