@@ -120,6 +120,7 @@ def test_from_mask_errors():
         shapes.from_mask(np.ones(5))
 
 
+@pytest.mark.slow
 @needs_mpeg7
 def test_load_mpeg7(tmp_path):
     outlines, labels, names = shapes.load_mpeg7(MPEG7, max_vertices=1000, cache=tmp_path)

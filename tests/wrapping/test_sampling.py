@@ -53,6 +53,7 @@ def test_errors():
         max_link_length(shapes.square(4), 1e-12, starts=[0.1])
 
 
+@pytest.mark.slow
 @needs_mpeg7
 def test_mpeg7_outline_error_grows_with_link_length():
     outlines, _, names = shapes.load_mpeg7(MPEG7, max_vertices=1000)
