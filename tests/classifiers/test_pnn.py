@@ -71,9 +71,15 @@ def test_memory_budget_caps_the_tile(monkeypatch):
     assert rows * max(b - a for _, a, b in tiles) * 8 * 3 <= pnn_module.MAX_BLOCK_BYTES
 
 
-def test_default_budget_is_256_mib():
-    assert pnn_module.MAX_BLOCK_BYTES == 256 * 2**20
-    assert pnn_module._TILE_BYTES <= pnn_module.MAX_BLOCK_BYTES
+@pytest.mark.parametrize("n_threads", [1, 4, 64])
+def test_default_budget_bounds_the_working_block_of_all_threads(n_threads):
+    # a training class far wider than one tile: the block every thread holds at
+    # once stays within the budget, whatever the thread count
+    X = np.zeros((50_000, 1))
+    clf = PNNClassifier().fit(X, [0] * 25_000 + [1] * 25_000)
+    rows, tiles = clf._tiles(n_threads, 8)
+    block = rows * max(b - a for _, a, b in tiles) * 8
+    assert n_threads * block <= pnn_module.MAX_BLOCK_BYTES
 
 
 @pytest.mark.parametrize("dtype", ["float64", "float32"])
