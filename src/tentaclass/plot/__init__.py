@@ -8,7 +8,8 @@ it drew and never calls ``plt.show()``.
   function, periodic signal and Fourier features (the thesis's panel);
 - :mod:`tentaclass.plot.wrapping`: a chain on its object, grasping spectra,
   the sampling error against link length;
-- :mod:`tentaclass.plot.scanner`: an inspected object, a belt with its objects.
+- :mod:`tentaclass.plot.scanner`: an inspected object, a belt with its objects;
+- :mod:`tentaclass.plot.confusion`: a confusion matrix with its counts.
 """
 
 from typing import TYPE_CHECKING
@@ -16,6 +17,7 @@ from typing import TYPE_CHECKING
 from .._lazy import lazy_exports
 
 if TYPE_CHECKING:
+    from .confusion import plot_confusion_matrix
     from .features import (
         plot_features,
         plot_periodic_signal,
@@ -28,6 +30,7 @@ if TYPE_CHECKING:
 
 _HOME = {
     "grasp_spectrum": "wrapping",
+    "plot_confusion_matrix": "confusion",
     "plot_belt": "scanner",
     "plot_capture_error": "wrapping",
     "plot_features": "features",
@@ -46,6 +49,7 @@ __all__ = [
     "grasp_spectrum",
     "plot_belt",
     "plot_capture_error",
+    "plot_confusion_matrix",
     "plot_features",
     "plot_grasp_spectra",
     "plot_inspection",

@@ -24,6 +24,7 @@ from ..scanner import (
     inspect,
     measure,
 )
+from ._axes import axes_or_new
 
 __all__ = ["DEFECT_COLORS", "plot_belt", "plot_inspection", "save_belt_figure"]
 
@@ -38,14 +39,6 @@ DEFECT_COLORS: dict[str, str] = {
     "too_tall": "tab:gray",
 }
 """Colour of each defect kind's marks."""
-
-
-def _axes(ax: Any) -> Any:
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
 
 
 def plot_inspection(
@@ -93,7 +86,7 @@ def plot_inspection(
         raise InputError(f"grid must be 2-D, got shape {arr.shape}")
     if result is None:
         result = inspect(arr, model)
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
     kw.update(imshow_kwargs)
     image = ax.imshow(arr, **kw)
@@ -177,7 +170,7 @@ def plot_belt(
     img = as_binary_grid(image, "image")
     if img.ndim != 2:
         raise InputError(f"image must be 2-D, got shape {img.shape}")
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
     kw.update(imshow_kwargs)
     art = ax.imshow(img, **kw)

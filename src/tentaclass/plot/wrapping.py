@@ -15,19 +15,12 @@ from .._typing import ArrayLike
 from ..features import fourier_features
 from ..shapes import as_outline
 from ..wrapping import Wrap
+from ._axes import axes_or_new
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 __all__ = ["grasp_spectrum", "plot_capture_error", "plot_grasp_spectra", "plot_wrap"]
-
-
-def _axes(ax: Axes | None) -> Axes:
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
 
 
 def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any) -> dict[str, Any]:
@@ -60,9 +53,11 @@ def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any
     """
     from matplotlib.patches import Polygon
 
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     p = as_outline(outline)
-    obj = ax.add_patch(Polygon(p, closed=True, facecolor="0.85", edgecolor="0.4", lw=0.8))
+    obj = ax.add_patch(
+        Polygon(p, closed=True, facecolor="0.85", edgecolor="0.4", lw=0.8, label="object")
+    )
     style: dict[str, Any] = {"color": "tab:red", "lw": 1.5, "label": "links"} | kwargs
     (links,) = ax.plot(w.joints[:, 0], w.joints[:, 1], **style)
     xy, touching = w.joints[1:], w.joints[w.contact]
@@ -72,6 +67,9 @@ def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any
     (base,) = ax.plot(*w.joints[0], "ks", ms=7, label="base")
     ax.set_aspect("equal")
     ax.autoscale_view()
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.legend(loc="best", fontsize="small")
     return {"object": obj, "links": links, "joints": joints, "contacts": contacts, "base": base}
 
 
@@ -107,7 +105,7 @@ def plot_grasp_spectra(
     -------
     bars : list of BarContainer, one per array.
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     spectra = {k: grasp_spectrum(v) for k, v in arrays.items()}
     width = 0.8 / max(len(spectra), 1)
     out = []
@@ -141,7 +139,7 @@ def plot_capture_error(
     -------
     artists : dict of label -> Line2D (guides under ``"mark: <label>"``).
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     out: dict[str, Any] = {}
     for label, (x, y) in curves.items():
         (out[label],) = ax.plot(x, y, marker=".", label=label, **kwargs)
