@@ -159,7 +159,7 @@ def plot_belt(
     >>> matplotlib.use("Agg")
     >>> from tentaclass.scanner import LineScanner
     >>> from tentaclass.scanner.simulate import make_belt
-    >>> belt = make_belt(4, width=64, seed=0)
+    >>> belt = make_belt(4, width=64, random_state=0)
     >>> objs = list(LineScanner(64).scan([belt.image]))
     >>> art = plot_belt(belt.image, objs)
     >>> len(art["boxes"]) == len(objs) == 4

@@ -402,7 +402,7 @@ def _default_model() -> ScannerModel:
     from .simulate import make_objects
 
     thesis_grids, thesis_target = scanner_training_grids()
-    gen = make_objects(400, damaged_fraction=0.0, radius_range=(4.0, 28.0), seed=0)
+    gen = make_objects(400, damaged_fraction=0.0, radius_range=(4.0, 28.0), random_state=0)
     grids = list(thesis_grids) + list(gen.grids)
     labels = np.concatenate([thesis_target, gen.target])
     return ScannerModel().fit(grids, labels)
