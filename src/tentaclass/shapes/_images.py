@@ -112,9 +112,12 @@ def _cache_file(cache_dir: Path, files: list[Path], max_vertices: int | None) ->
     return cache_dir / f"mpeg7-{h.hexdigest()[:16]}.npz"
 
 
-def _decode(files: list[Path], max_vertices: int | None) -> tuple[list[np.ndarray], list[str]]:
-    """Outlines of the readable files, and the names of the others with the reason."""
-    outlines, bad = [], []
+def _decode(
+    files: list[Path], max_vertices: int | None
+) -> tuple[list[np.ndarray | None], list[str]]:
+    """Outlines of the readable files (None for the others), and what went wrong."""
+    outlines: list[np.ndarray | None] = []
+    bad: list[str] = []
     for f in files:
         try:
             outline = from_mask(read_silhouette(f))
@@ -138,7 +141,7 @@ def _load_cached(
     if store is not None and store.is_file():
         with np.load(store) as z:
             xy, cuts = z["xy"], z["cuts"]
-        decoded: list[np.ndarray | None] = list(np.split(xy, cuts[1:-1]))
+        decoded: list[np.ndarray | None] = [*np.split(xy, cuts[1:-1])]
     else:
         decoded, bad = _decode(files, max_vertices)
         if store is not None and decoded and not bad:
