@@ -142,3 +142,13 @@ def test_points_to_angles_does_not_depend_on_scale(scale):
     np.testing.assert_allclose(
         points_to_angles(p * scale, closed=False), points_to_angles(p, closed=False), atol=1e-12
     )
+
+
+def test_fuzz_found_points_near_the_float_limit():
+    p = np.full((2, 2), 8.98846567e307)
+    p[0] = 0
+    np.testing.assert_allclose(points_to_angles(p, closed=False), [np.pi / 4])
+    tri = np.array([[8.98846567e307, 0], [0, 0], [0, 1e307]])
+    r = resample_closed(tri, 7)
+    assert np.all(np.isfinite(r))
+    np.testing.assert_allclose(r / 1e300, resample_closed(tri / 1e300, 7))

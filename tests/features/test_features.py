@@ -219,3 +219,19 @@ def test_huge_angles_give_finite_features_that_scale():
         f = fourier_features(huge, detrend=True, method=method)
         ref = fourier_features(one, detrend=True, method=method)
         np.testing.assert_allclose(f, [1e300 * ref, ref], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "q",
+    [
+        np.full(2, 8.98846567e307),  # the scale factor itself overflowed
+        np.full(19, 3.11463753e306),  # features beyond the float64 range
+    ],
+)
+def test_fuzz_found_huge_angles_give_features_or_an_error(q):
+    try:
+        f = fourier_features(q)
+    except ValueError as exc:
+        assert "float64 range" in str(exc)
+    else:
+        assert np.all(np.isfinite(f))

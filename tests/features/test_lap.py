@@ -64,3 +64,11 @@ def test_straight_chain_has_no_lap_and_falls_back_without_error():
     lap, closed = last_lap(np.zeros(5), n_out=16)
     assert not closed
     np.testing.assert_allclose(lap, 2 * np.pi / 16)
+
+
+@pytest.mark.parametrize(
+    "q", [np.full(18, 9.98718408e306), [-8.98846567e307, 9.97920155e291, 1.79769313e308, 1e291]]
+)
+def test_fuzz_found_huge_angles_are_refused(q):
+    with pytest.raises(ValueError, match="cannot be resolved"):
+        last_lap(q)

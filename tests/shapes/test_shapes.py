@@ -169,3 +169,22 @@ def test_load_mpeg7_skips_unreadable_images_with_a_warning(tmp_path):
         outlines, labels, names = shapes.load_mpeg7(tmp_path, cache=False)
     assert names == ["bar-1.png", "bar-2.png"] and labels.tolist() == ["bar", "bar"]
     assert len(outlines) == 2
+
+
+@pytest.mark.parametrize(
+    "points",
+    [
+        [[-1.79769313e308, 9.97920155e291], [0, 9.97920155e291], [9.97920155e291, 9.97920155e291]],
+        [[0, 0], [5.6e102, 5.6e102], [0, 5.6e102], [5.6e102, 0]],
+        [[4.70041672e292, 1.0], [4.70041672e292, 3.82453991e15], [4.70041672e292, 0.0]],
+    ],
+)
+def test_fuzz_found_outlines_out_of_range_are_refused(points):
+    with pytest.raises(InputError, match="too large or too small"):
+        shapes.polygon(points)
+
+
+def test_signed_area_far_from_the_origin():
+    # without centring, products of 1e9 cancel to a few units of error
+    sq = shapes.square(2.0) + 1e9
+    assert shapes.signed_area(sq) == 4.0

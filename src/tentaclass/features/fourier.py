@@ -174,10 +174,16 @@ def _rescaled_rows(
     them; ``s`` is a power of two, so the scaling itself is exact.
     """
     for qi, row in zip(q, rows, strict=True):
-        s = np.ldexp(1.0, int(np.frexp(np.abs(qi).max())[1]))
+        s = np.ldexp(1.0, int(np.frexp(np.abs(qi).max())[1]) - 1)
         one = np.empty((1, n_coeffs))
         kernel(qi[None] / s, n_coeffs, detrend, period / s, canonicalize, one)
-        out[row] = one[0] * s
+        with np.errstate(over="ignore"):
+            out[row] = one[0] * s
+        if not np.all(np.isfinite(out[row])):
+            raise InputError(
+                f"q holds angles up to {np.abs(qi).max():g}: its Fourier features "
+                "exceed the float64 range"
+            )
 
 
 def fourier_features(
