@@ -53,9 +53,7 @@ def _time(cmd: list[str], env: dict[str, str]) -> float:
     return time.perf_counter() - t0
 
 
-def main(repeats: int | None = None) -> None:
-    if repeats is None:
-        repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 7
+def main(repeats: int = 7) -> None:
     env = _env()
     with tempfile.TemporaryDirectory() as tmp:
         model = Path(tmp) / "model.tcm"
@@ -80,4 +78,4 @@ save_model(TentacleClassifier().fit(X, y), sys.argv[1])
 """
 
 if __name__ == "__main__":
-    main()
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 7)
