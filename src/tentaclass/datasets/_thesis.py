@@ -130,18 +130,13 @@ def thesis_scanner() -> Bunch:
 
 def _reference_outlines() -> dict[str, np.ndarray]:
     """Counter-clockwise outlines of the thesis's four classes, perimeter 1."""
-    h = np.sqrt(3) / 2
+    from ..shapes import circle, rectangle, square, triangle
+
     polys = {
-        "square": np.array([(0, 0), (1, 0), (1, 1), (0, 1)], float),
-        "circle": np.stack(
-            [
-                np.cos(np.linspace(0, 2 * np.pi, 256, endpoint=False)),
-                np.sin(np.linspace(0, 2 * np.pi, 256, endpoint=False)),
-            ],
-            axis=1,
-        ),
-        "triangle": np.array([(0, 0), (1, 0), (0.5, h)], float),
-        "rectangle": np.array([(0, 0), (3, 0), (3, 1), (0, 1)], float),
+        "square": square(1.0),
+        "circle": circle(1.0, 256),
+        "triangle": triangle(side=1.0),
+        "rectangle": rectangle(3.0, 1.0),
     }
     out = {}
     for name, p in polys.items():
