@@ -7,6 +7,7 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -275,3 +276,35 @@ def as_torques(value: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
             f"torque_fn(t, q, qd) returned shape {tau.shape}, which does not broadcast "
             f"to the state's shape {shape}"
         ) from None
+
+
+def as_binary_grid_2d(grid: Any, name: str = "grid") -> np.ndarray:
+    """One 2-D binary grid (see :func:`as_binary_grid`)."""
+    arr = as_binary_grid(grid, name)
+    if arr.ndim != 2:
+        raise InputError(f"{name} must be 2-D (rows, cols), got shape {arr.shape}")
+    return arr
+
+
+def as_grid_list(grids: Any, name: str = "grids") -> list[np.ndarray]:
+    """Validate a 3-D array or a sequence of 2-D binary grids (shapes may differ)."""
+    if isinstance(grids, np.ndarray) and grids.ndim == 3:
+        seq = list(grids)
+    elif isinstance(grids, np.ndarray) or not isinstance(grids, Sequence):
+        raise InputError(
+            f"{name} must be a sequence of 2-D grids or a 3-D array, got {type(grids).__name__}"
+            + (f" of shape {grids.shape}" if isinstance(grids, np.ndarray) else "")
+        )
+    else:
+        seq = list(grids)
+    out = []
+    for i, g in enumerate(seq):
+        arr = as_binary_grid(g, f"{name}[{i}]")
+        if arr.ndim != 2:
+            raise InputError(f"{name}[{i}] must be 2-D, got shape {arr.shape}")
+        if not arr.any():
+            raise InputError(f"{name}[{i}] holds no object pixels")
+        out.append(arr)
+    if not out:
+        raise InputError(f"{name} is empty")
+    return out
