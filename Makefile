@@ -9,6 +9,7 @@ STAMP  := $(VENV)/.installed
 venv: $(STAMP)
 
 $(STAMP): pyproject.toml
+	@echo "Installing tentaclass and its dependencies into $(VENV) (first run only; takes a few minutes)"
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[test,web,physics,outline]'
@@ -19,6 +20,7 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/mypy src
 	$(BIN)/python -m pytest -q
 
 # the slow tests (MPEG-7 sweeps, long simulations) left out
@@ -35,7 +37,7 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
-	$(BIN)/python benchmarks/run_all.py bench_fourier bench_dynamics bench_pnn bench_scanner bench_wrap
+	$(BIN)/python benchmarks/run_all.py bench_fourier bench_dynamics bench_pnn bench_scanner bench_startup bench_wrap
 
 # about an hour: every MPEG-7 setting against MiniRocket (needs ../shared/data)
 bench-recognition: $(STAMP)

@@ -33,7 +33,7 @@ def make_test_belt(
     """A belt with about ``per_1000`` objects per 1000 lines, from a pool of 256 objects."""
     rng = np.random.default_rng(seed)
     pool = make_objects(
-        256, shape=(44, 44), radius_range=(6.0, 20.0), damaged_fraction=0.33, seed=seed
+        256, shape=(44, 44), radius_range=(6.0, 20.0), damaged_fraction=0.33, random_state=seed
     )
     crops = []
     for g in pool.grids:

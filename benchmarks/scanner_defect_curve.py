@@ -48,7 +48,7 @@ def rejection_rates(
 
 def main(n: int = 2000, seed: int = 2024, out: str | None = None) -> dict:
     """Run on ``n`` generated objects; save the curve to ``out`` if given."""
-    data = make_objects(n, damaged_fraction=0.5, seed=seed)
+    data = make_objects(n, damaged_fraction=0.5, random_state=seed)
     results = inspect_many(data.grids, default_model())
     predicted = np.array([r.label for r in results])
     rejected = np.array([not r.accept for r in results])

@@ -28,7 +28,7 @@ for name, grid, said in zip(d.test_names, d.test_grids, d.thesis_answer, strict=
     print(f"{name:<20} {said or '-':<12} {r.label:<10} {r.accept!s:<7} {'; '.join(r.reasons)}")
 
 # Objects with their expected outline, holes and bites marked.
-damaged = make_objects(6, damaged_fraction=1.0, seed=5)
+damaged = make_objects(6, damaged_fraction=1.0, random_state=5)
 fig = Figure(figsize=(12, 6))
 for i, grid in enumerate([d.test_grids[0], d.test_grids[2], *damaged.grids]):
     plot_inspection(grid, ax=fig.add_subplot(2, 4, i + 1))
@@ -36,7 +36,7 @@ fig.tight_layout()
 fig.savefig("scanner_objects.png", dpi=80)
 
 # A belt streamed in chunks of 16 rows, as a sensor would deliver it.
-belt = make_belt(24, width=384, lanes=3, seed=1)
+belt = make_belt(24, width=384, lanes=3, random_state=1)
 scanner = LineScanner(belt.image.shape[1])
 objects = []
 for start in range(0, belt.image.shape[0], 16):

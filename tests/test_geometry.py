@@ -132,3 +132,23 @@ def test_errors_are_library_errors():
         angles_to_points(1.0)
     with pytest.raises(InputError):
         points_to_angles([(0, 0), (np.inf, 0), (0, 1)])
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300, 1.0])
+def test_points_to_angles_does_not_depend_on_scale(scale):
+    # found by fuzzing: cross and dot products overflowed to NaN at 1e300
+    p = np.array([[0, 0], [0.5, 1], [1, 2], [0, 3]])
+    np.testing.assert_allclose(points_to_angles(p * scale), points_to_angles(p), atol=1e-12)
+    np.testing.assert_allclose(
+        points_to_angles(p * scale, closed=False), points_to_angles(p, closed=False), atol=1e-12
+    )
+
+
+def test_fuzz_found_points_near_the_float_limit():
+    p = np.full((2, 2), 8.98846567e307)
+    p[0] = 0
+    np.testing.assert_allclose(points_to_angles(p, closed=False), [np.pi / 4])
+    tri = np.array([[8.98846567e307, 0], [0, 0], [0, 1e307]])
+    r = resample_closed(tri, 7)
+    assert np.all(np.isfinite(r))
+    np.testing.assert_allclose(r / 1e300, resample_closed(tri / 1e300, 7))

@@ -15,38 +15,45 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 - :mod:`tentaclass.plot`: every figure (matplotlib, imported lazily).
 """
 
-from . import shapes
-from .classifiers import (
-    PNNClassifier,
-    RBFNetworkClassifier,
-    ShiftNNClassifier,
-    TentacleClassifier,
-    modern_mlp,
-    thesis_mlp,
-)
-from .features import (
-    FourierFeatures,
-    canonical_direction,
-    dft_layer,
-    fourier_features,
-    periodic_signal,
-    turning_function,
-)
-from .geometry import angles_to_points, points_to_angles, resample_closed
-from .io import load_model, save_model
-from .manipulator import ChainKinematics, PlanarChain, Trajectory
-from .scanner import Defect, Inspection, LineScanner, ScannedObject, ScannerModel
-from .wrapping import (
-    GraspState,
-    Wrap,
-    WrapBatch,
-    capture_error,
-    closing_link_length,
-    grasp_state,
-    max_link_length,
-    wrap,
-    wrap_many,
-)
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from . import shapes
+    from .classifiers import (
+        PNNClassifier,
+        RBFNetworkClassifier,
+        ShiftNNClassifier,
+        TentacleClassifier,
+        modern_mlp,
+        thesis_mlp,
+    )
+    from .features import (
+        FourierFeatures,
+        canonical_direction,
+        dft_layer,
+        fourier_features,
+        periodic_signal,
+        turning_function,
+    )
+    from .geometry import angles_to_points, points_to_angles, resample_closed
+    from .io import load_model, save_model
+    from .manipulator import ChainKinematics, PlanarChain, Trajectory
+    from .scanner import Defect, Inspection, LineScanner, ScannedObject, ScannerModel
+    from .wrapping import (
+        GraspState,
+        Wrap,
+        WrapBatch,
+        capture_error,
+        closing_link_length,
+        grasp_state,
+        max_link_length,
+        wrap,
+        wrap_many,
+    )
 
 __version__ = "0.1.0"
 
@@ -88,3 +95,46 @@ __all__ = [
     "wrap",
     "wrap_many",
 ]
+
+# Public name -> the subpackage that defines it. Subpackages are imported on
+# first use, so that ``import tentaclass`` (and the CLI's start) stays light:
+# scikit-learn, matplotlib and scipy.stats load only when something needs them.
+_HOME = {
+    "ChainKinematics": "manipulator",
+    "Defect": "scanner",
+    "FourierFeatures": "features",
+    "GraspState": "wrapping",
+    "Inspection": "scanner",
+    "LineScanner": "scanner",
+    "PNNClassifier": "classifiers",
+    "PlanarChain": "manipulator",
+    "RBFNetworkClassifier": "classifiers",
+    "ScannedObject": "scanner",
+    "ScannerModel": "scanner",
+    "ShiftNNClassifier": "classifiers",
+    "TentacleClassifier": "classifiers",
+    "Trajectory": "manipulator",
+    "Wrap": "wrapping",
+    "WrapBatch": "wrapping",
+    "angles_to_points": "geometry",
+    "canonical_direction": "features",
+    "capture_error": "wrapping",
+    "closing_link_length": "wrapping",
+    "dft_layer": "features",
+    "fourier_features": "features",
+    "grasp_state": "wrapping",
+    "load_model": "io",
+    "max_link_length": "wrapping",
+    "modern_mlp": "classifiers",
+    "periodic_signal": "features",
+    "points_to_angles": "geometry",
+    "resample_closed": "geometry",
+    "save_model": "io",
+    "thesis_mlp": "classifiers",
+    "turning_function": "features",
+    "wrap": "wrapping",
+    "wrap_many": "wrapping",
+}
+
+_HOME["shapes"] = "shapes"
+__getattr__, __dir__ = lazy_exports(__name__, _HOME, globals())

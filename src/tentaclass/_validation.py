@@ -7,6 +7,8 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -98,9 +100,12 @@ def check_positive_float(value: object, name: str, *, allow_zero: bool = False) 
 
 def check_finite_float(value: object, name: str) -> float:
     """A finite real number (not bool) of any sign."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} must be a finite number, got {value!r}")
-    return float(value)
+    v = float(value)
+    if not np.isfinite(v):
+        raise InputError(f"{name} must be a finite number, got {value!r}")
+    return v
 
 
 def check_frequency_count(value: object, top: int, name: str, top_text: str) -> int:
@@ -112,19 +117,29 @@ def check_frequency_count(value: object, top: int, name: str, top_text: str) -> 
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InputError(f"{name} must be a number, got {value!r}")
-    count = value
-    if isinstance(value, float) and not value.is_integer():
-        if not 0 < value < 1:
+    count = float(value)
+    if not count.is_integer():
+        if not 0 < count < 1:
             raise InputError(f"a fractional {name} must lie in (0, 1), got {value}")
-        count = max(1, round(value * top))
+        count = max(1, round(count * top))
     if not 1 <= count <= top:
         raise InputError(f"{name} must be between 1 and {top_text} = {top}, got {value!r}")
     return int(count)
 
 
+def as_rectangular_array(x: ArrayLike, name: str) -> np.ndarray:
+    """``np.asarray(x)``, with an error naming ``name`` when rows differ in length."""
+    try:
+        return np.asarray(x)
+    except ValueError as exc:
+        raise ShapeError(
+            f"{name} must be a rectangular array; its rows differ in length ({exc})"
+        ) from exc
+
+
 def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
     """Binary image of shape ``(..., rows, cols)``: bool, or numbers that are all 0 or 1."""
-    arr = np.asarray(grid)
+    arr = as_rectangular_array(grid, name)
     if arr.ndim < 2:
         raise ShapeError(f"{name} must have at least 2 dimensions, got shape {arr.shape}")
     if arr.size == 0:
@@ -138,3 +153,158 @@ def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
         bad = arr[~ok].ravel()[0]
         raise InputError(f"{name} must hold only 0 and 1, found {bad!r}")
     return arr.astype(bool)
+
+
+def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) -> np.ndarray:
+    """scikit-learn's ``validate_data`` for ``X`` alone, typed: the checked array.
+
+    Records (``reset=True``) or checks ``n_features_in_`` on ``estimator``.
+    """
+    from sklearn.utils.validation import validate_data
+
+    return validate_data(estimator, X, reset=reset, **kwargs)
+
+
+def check_X_y(
+    estimator: Any, X: ArrayLike, y: ArrayLike, **kwargs: Any
+) -> tuple[np.ndarray, np.ndarray]:
+    """scikit-learn's ``validate_data`` for a training set ``(X, y)``, typed."""
+    from sklearn.utils.validation import validate_data
+
+    return validate_data(estimator, X, y, **kwargs)
+
+
+def check_spread(value: object, name: str = "spread", *, minimum: float = 1e-150) -> float | str:
+    """A kernel width: ``"auto"`` or a finite number of at least ``minimum``.
+
+    The default ``minimum`` keeps ``(1 / spread) ** 2`` finite in float64.
+    """
+    if isinstance(value, str) and value == "auto":
+        return value
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"{name} must be 'auto' or a finite number > 0, got {value!r}")
+    v = float(value)
+    if not (np.isfinite(v) and v > 0):
+        raise InputError(f"{name} must be 'auto' or a finite number > 0, got {value!r}")
+    if v < minimum:
+        raise InputError(f"{name} {value!r} is too small: it must be at least {minimum:g}")
+    return v
+
+
+def check_fraction(value: object, name: str) -> float:
+    """A number in ``[0, 1]`` (not bool)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 <= float(value) <= 1:
+        raise InputError(f"{name} must be a number in [0, 1], got {value!r}")
+    return float(value)
+
+
+# Planar chain (tentaclass.manipulator): link parameters, joint arrays, time grids.
+
+
+def check_link_parameters(**params: ArrayLike | None) -> tuple[int, dict[str, FloatArray]]:
+    """Scalars or 1-D arrays of one common length ``n``, at least one array.
+
+    Returns ``n`` and read-only float copies of shape ``(n,)`` (``None`` skipped).
+    """
+    arrays: dict[str, FloatArray] = {}
+    n = None
+    for name, value in params.items():
+        if value is None:
+            continue
+        arr = as_float_array(value, name)
+        if arr.ndim > 1:
+            raise ShapeError(f"{name} must be a number or a 1-D array, got shape {arr.shape}")
+        if arr.ndim == 1:
+            if arr.size == 0:
+                raise ShapeError(f"{name} is empty")
+            if n is None:
+                n = arr.size
+            elif arr.size != n:
+                sizes = {k: v.size for k, v in arrays.items() if v.ndim == 1}
+                raise ShapeError(
+                    f"{name} has {arr.size} entries but the chain has {n} links (from {sizes})"
+                )
+        arrays[name] = arr
+    if n is None:
+        raise InputError(
+            "link_lengths must list one length per link (e.g. [1.0] * n_links) "
+            "unless masses, com or inertia do"
+        )
+    out = {}
+    for name, arr in arrays.items():
+        out[name] = np.array(np.broadcast_to(arr, (n,)))
+        out[name].flags.writeable = False
+    return n, out
+
+
+def as_joint_arrays(n: int, **arrays: ArrayLike) -> list[FloatArray]:
+    """Finite arrays of shape ``(..., n)``, broadcast to their common batch shape."""
+    out = []
+    for name, value in arrays.items():
+        arr = as_angle_array(value, name, min_joints=1)
+        if arr.shape[-1] != n:
+            raise ShapeError(
+                f"{name} must have {n} entries along its last axis (one per link of the "
+                f"chain), got shape {arr.shape}"
+            )
+        out.append(arr)
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in out))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in zip(arrays, out, strict=True))
+        raise ShapeError(f"the batch shapes of {shapes} do not broadcast") from None
+    return [np.broadcast_to(a, shape) for a in out]
+
+
+def as_times(t: ArrayLike) -> FloatArray:
+    """A non-empty, strictly increasing 1-D array of finite times."""
+    arr = as_float_array(t, "t", min_ndim=1)
+    if arr.ndim != 1 or arr.size == 0:
+        raise ShapeError(f"t must be a non-empty 1-D array of times, got shape {arr.shape}")
+    if np.any(np.diff(arr) <= 0):
+        raise InputError("t must be strictly increasing")
+    return arr
+
+
+def as_torques(value: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
+    """The output of a torque function, broadcast to the state's shape."""
+    tau = as_float_array(value, "torque_fn(t, q, qd)")
+    try:
+        return np.broadcast_to(tau, shape)
+    except ValueError:
+        raise ShapeError(
+            f"torque_fn(t, q, qd) returned shape {tau.shape}, which does not broadcast "
+            f"to the state's shape {shape}"
+        ) from None
+
+
+def as_binary_grid_2d(grid: Any, name: str = "grid") -> np.ndarray:
+    """One 2-D binary grid (see :func:`as_binary_grid`)."""
+    arr = as_binary_grid(grid, name)
+    if arr.ndim != 2:
+        raise InputError(f"{name} must be 2-D (rows, cols), got shape {arr.shape}")
+    return arr
+
+
+def as_grid_list(grids: Any, name: str = "grids") -> list[np.ndarray]:
+    """Validate a 3-D array or a sequence of 2-D binary grids (shapes may differ)."""
+    if isinstance(grids, np.ndarray) and grids.ndim == 3:
+        seq = list(grids)
+    elif isinstance(grids, np.ndarray) or not isinstance(grids, Sequence):
+        raise InputError(
+            f"{name} must be a sequence of 2-D grids or a 3-D array, got {type(grids).__name__}"
+            + (f" of shape {grids.shape}" if isinstance(grids, np.ndarray) else "")
+        )
+    else:
+        seq = list(grids)
+    out = []
+    for i, g in enumerate(seq):
+        arr = as_binary_grid(g, f"{name}[{i}]")
+        if arr.ndim != 2:
+            raise InputError(f"{name}[{i}] must be 2-D, got shape {arr.shape}")
+        if not arr.any():
+            raise InputError(f"{name}[{i}] holds no object pixels")
+        out.append(arr)
+    if not out:
+        raise InputError(f"{name} is empty")
+    return out

@@ -34,6 +34,15 @@ def _link_lengths(link_lengths: ArrayLike, n: int) -> FloatArray:
     return lengths
 
 
+def _power_of_two_scale(p: FloatArray) -> FloatArray:
+    """Per outline, a power of two near its largest coordinate (1 for all zeros).
+
+    Dividing by it is exact and brings the coordinates into ``[1, 2)``.
+    """
+    peak = np.abs(p).max(axis=(-2, -1), keepdims=True)
+    return np.ldexp(1.0, np.frexp(np.where(peak > 0, peak, 1.0))[1] - 1)
+
+
 def angles_to_points(
     q: ArrayLike,
     link_lengths: ArrayLike = 1.0,
@@ -61,7 +70,7 @@ def angles_to_points(
 
     Notes
     -----
-    Forward kinematics of the planar chain (SPEC section 2):
+    Forward kinematics of the planar chain:
     ``phi_i = heading + sum_{j<=i} q_j`` and
     ``p_i = p_{i-1} + l_i (cos phi_i, sin phi_i)``.
 
@@ -135,6 +144,8 @@ def points_to_angles(
     True
     """
     p = as_points_array(points, "points", min_points=2)
+    # Turning angles do not change with scale: products below stay in range.
+    p = p / _power_of_two_scale(p)
     if closed:
         if p.shape[-2] > 3 and np.all(p[..., 0, :] == p[..., -1, :]):
             p = p[..., :-1, :]
@@ -192,6 +203,8 @@ def resample_closed(points: ArrayLike, n: int) -> FloatArray:
     """
     p = as_points_array(points, "points", min_points=3)
     n = check_positive_int(n, "n", minimum=3)
+    scale = _power_of_two_scale(p)  # resampling commutes with scaling: no overflow
+    p = p / scale
     batch = p.shape[:-2]
     m = p.shape[-2]
     flat = p.reshape(-1, m, 2)
@@ -213,4 +226,4 @@ def resample_closed(points: ArrayLike, n: int) -> FloatArray:
     w = np.where(u1 > u0, (t - u0) / np.where(u1 > u0, u1 - u0, 1.0), 0.0)[..., None]
     a = np.take_along_axis(closed, idx[..., None], axis=1)
     b = np.take_along_axis(closed, idx[..., None] + 1, axis=1)
-    return (a + w * (b - a)).reshape(*batch, n, 2)
+    return (a + w * (b - a)).reshape(*batch, n, 2) * scale

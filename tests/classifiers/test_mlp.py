@@ -5,7 +5,6 @@ import pytest
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.neural_network import MLPClassifier
 from sklearn.pipeline import Pipeline
-from sklearn.utils.estimator_checks import parametrize_with_checks
 from threadpoolctl import threadpool_limits
 
 from tentaclass.classifiers import (
@@ -22,39 +21,6 @@ from tentaclass.features import fourier_features
 def _one_blas_thread():
     with threadpool_limits(1, user_api="blas"):
         yield
-
-
-_PIPELINE_GAPS = {
-    "check_estimators_overwrite_params": "sklearn's Pipeline fits its step objects in place "
-    "(a known Pipeline trait, not ours)",
-    "check_dont_overwrite_parameters": "sklearn's Pipeline fits its step objects in place",
-}
-_EARLY_STOPPING_GAPS = {
-    "check_estimators_nan_inf": "early stopping's stratified validation split fails on the "
-    "check's 10-sample set before the NaN check is reached",
-    "check_classifiers_one_label": "early stopping's validation split fails first on one class",
-    "check_fit2d_1feature": "early stopping needs more samples than the check's tiny set",
-}
-
-
-def expected_failed_checks(estimator):
-    if not isinstance(estimator, Pipeline):
-        return {}
-    gaps = dict(_PIPELINE_GAPS)
-    if estimator.named_steps["mlp"].early_stopping:
-        gaps.update(_EARLY_STOPPING_GAPS)
-    return gaps
-
-
-@parametrize_with_checks(
-    [
-        thesis_mlp(random_state=0),
-        modern_mlp(random_state=0),
-    ],
-    expected_failed_checks=expected_failed_checks,
-)
-def test_sklearn_compatible(estimator, check):
-    check(estimator)
 
 
 def test_thesis_preset_settings():

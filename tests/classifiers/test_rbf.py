@@ -3,7 +3,6 @@ import itertools
 import numpy as np
 import pytest
 from scipy.spatial.distance import cdist
-from sklearn.utils.estimator_checks import parametrize_with_checks
 from threadpoolctl import threadpool_limits
 
 from tentaclass.classifiers import RBFNetworkClassifier, TentacleClassifier
@@ -15,18 +14,6 @@ def _one_blas_thread():
     # small dense problems: one BLAS thread is faster, and far faster on a busy machine
     with threadpool_limits(1, user_api="blas"):
         yield
-
-
-@parametrize_with_checks(
-    [
-        RBFNetworkClassifier(),
-        RBFNetworkClassifier(spread=1.0, alpha=1e-3),
-        RBFNetworkClassifier(centers="kmeans", n_centers=8, random_state=0),
-        RBFNetworkClassifier(centers="forward", n_centers=10),
-    ]
-)
-def test_sklearn_compatible(estimator, check):
-    check(estimator)
 
 
 def blobs(rng, n_per=40, sep=6.0, dim=2, n_classes=3):

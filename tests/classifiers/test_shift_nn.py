@@ -1,15 +1,9 @@
 import numpy as np
 import pytest
-from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from tentaclass.classifiers._shift_nn import ShiftNNClassifier
 from tentaclass.datasets import thesis_tentacle
 from tentaclass.geometry import angles_to_points
-
-
-@parametrize_with_checks([ShiftNNClassifier(signal="raw")])
-def test_sklearn_compatible(estimator, check):
-    check(estimator)
 
 
 def brute_force(A, B, mirror):

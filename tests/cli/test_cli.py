@@ -87,9 +87,9 @@ def test_classify_any_chain_length():
         (["classify", "0 0"], "at least 3"),
         (["classify"], "either ANGLES or --file"),
         (["classify", "--file", "missing.csv"], "does not exist"),
-        (["demo", "--noise", "nan", "--no-figures"], "finite"),  # was "Input X contains NaN"
+        (["demo", "--noise", "nan", "--no-figures"], "finite"),
         (["demo", "--noise", "inf", "--no-figures"], "finite"),
-        (["demo", "--seed", "-1", "--no-figures"], "--seed"),  # was "expected non-negative"
+        (["demo", "--seed", "-1", "--no-figures"], "--seed"),
     ],
 )
 def test_classify_bad_input_one_line_error(args, message):
@@ -107,7 +107,7 @@ def test_classify_bad_files(tmp_path):
     nan = tmp_path / "n.npy"
     np.save(nan, np.array([[0, np.nan, 1.0]]))
     cplx = tmp_path / "c.npy"
-    np.save(cplx, np.array([[1j, 0, 0, 1.0]]))  # the imaginary part was silently dropped
+    np.save(cplx, np.array([[1j, 0, 0, 1.0]]))  # the imaginary part must not be dropped
     for path, message in (
         (ragged, "different numbers"),
         (bad, "not a readable"),

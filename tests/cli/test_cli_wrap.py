@@ -60,12 +60,12 @@ def test_mask_and_plot(tmp_path):
         (["--links", "0"], "links"),
         (["--link-length", "1", "--laps", "2"], "not both"),
         (["--shape", "rectangle", "--size", "-1,2"], "width"),
-        (["--shape", "rectangle", "--size", "4,5,6"], "'W' or 'W,H'"),  # 6 was ignored
+        (["--shape", "rectangle", "--size", "4,5,6"], "'W' or 'W,H'"),  # 6 must not be ignored
         (["--size", ""], "empty"),  # fell back to the default size
-        (["--size", "1e300"], "too large"),  # was "collinear"
-        (["--link-length", "-1"], "must be >= 0"),  # was "must lie in >= 0"
+        (["--size", "1e300"], "too large"),
+        (["--link-length", "-1"], "must be >= 0"),
         (["--laps", "inf"], "finite"),  # silently wrapped 7.9 laps
-        (["--laps", "nan"], "finite"),  # was "cannot convert float NaN to integer"
+        (["--laps", "nan"], "finite"),
         (["--laps", "9"], "cannot close 9 laps"),  # 16 links: silently 7.9 laps
         (["--noise", "0.1", "--seed", "-1"], "--seed"),
         (["--shape", "polygon", "--vertices", "0,0 1,1 1,0 0,1"], "intersects itself"),

@@ -39,11 +39,11 @@ def test_batch_shapes_and_link_length_independence(rng):
 
 
 def test_bad_input():
-    with pytest.raises(ValueError, match="at least 3"):
-        last_lap([0.1, 0.2])
+    with pytest.raises(ValueError, match="at least 2"):
+        last_lap([0.1])
     with pytest.raises(ValueError, match="n_out"):
-        last_lap(SQUARE, n_out=2)
-    with pytest.raises(ValueError, match="complex"):  # imaginary part was dropped
+        last_lap(SQUARE, n_out=1)
+    with pytest.raises(ValueError, match="complex"):  # the imaginary part must not be dropped
         last_lap(np.array([1j, 1.0, 1.0, 1.0]))
 
 
@@ -56,3 +56,19 @@ def test_degenerate_closure_falls_back_to_the_open_chain(monkeypatch):
     lap, closed = last_lap(q, n_out=8)
     assert not closed
     assert lap.shape == (8,) and np.all(np.isfinite(lap))
+
+
+def test_straight_chain_has_no_lap_and_falls_back_without_error():
+    # found by sklearn's estimator checks: the fallback went out and back along
+    # the chain and met itself at the far end
+    lap, closed = last_lap(np.zeros(5), n_out=16)
+    assert not closed
+    np.testing.assert_allclose(lap, 2 * np.pi / 16)
+
+
+@pytest.mark.parametrize(
+    "q", [np.full(18, 9.98718408e306), [-8.98846567e307, 9.97920155e291, 1.79769313e308, 1e291]]
+)
+def test_fuzz_found_huge_angles_are_refused(q):
+    with pytest.raises(ValueError, match="cannot be resolved"):
+        last_lap(q)

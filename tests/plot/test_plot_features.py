@@ -30,3 +30,20 @@ def test_plot_functions_return_artists_and_refuse_batches():
     with pytest.raises(ValueError, match="one joint-angle array"):
         plotting.plot_shape(np.zeros((2, 8)), ax=ax)
     plt.close(fig)
+
+
+def test_circle_features_are_drawn_as_zero_not_as_rounding_noise():
+    q = np.full(16, np.pi / 8)
+    fig = plotting.plot_thesis_panel(q)
+    signal_ax, features_ax = fig.get_axes()[2:]
+    assert all(b.get_height() == 0 for b in features_ax.patches)
+    assert features_ax.get_ylim() == (0, 1)
+    np.testing.assert_array_equal(signal_ax.get_lines()[0].get_ydata(), 0)
+
+
+def test_none_ax_makes_a_new_figure():
+    q = np.tile([0, 0, 0, np.pi / 2], 4)
+    first = plotting.plot_features(q)
+    second = plotting.plot_features(q)
+    assert first.patches[0].axes.figure is not second.patches[0].axes.figure
+    plt.close("all")

@@ -46,7 +46,7 @@ def test_plot_inspection_new_axes():
 
 
 def test_plot_belt_and_save(tmp_path):
-    belt = make_belt(5, width=96, lanes=2, seed=2)
+    belt = make_belt(5, width=96, lanes=2, random_state=2)
     objs = list(LineScanner(96).scan([belt.image]))
     _, ax = plt.subplots()
     art = plot_belt(belt.image, objs, ax=ax)

@@ -47,3 +47,21 @@ def test_plot_capture_error_lines_and_marks():
     assert np.allclose(art["c"].get_xydata(), [[0.1, 0.0], [0.2, 0.01]])
     assert "mark: l=r" in art
     plt.close(fig)
+
+
+def test_plot_wrap_labels_its_axes_and_legend():
+    sq = shapes.square(4)
+    art = plot_wrap(wrap(sq, 12, 1.0), sq)
+    ax = art["links"].axes
+    assert ax.get_xlabel() and ax.get_ylabel()
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["object", "links", "joints", "contacts", "base"]
+    plt.close("all")
+
+
+def test_capture_error_marks_stay_inside_the_axes():
+    art = plot_capture_error({"a": ([0.1, 0.5], [0.0, 0.1])}, marks={"a/2": [0.5]})
+    ax = art["a"].axes
+    (label,) = ax.texts
+    assert label.xy[1] < 1 and label.get_va() == "top"  # below the title, not on it
+    plt.close("all")

@@ -10,7 +10,7 @@ from tentaclass.scanner.simulate import draw_shape, make_belt, make_objects
 
 @pytest.fixture(scope="module")
 def generated():
-    data = make_objects(400, damaged_fraction=0.5, seed=7)
+    data = make_objects(400, damaged_fraction=0.5, random_state=7)
     return data, inspect_many(data.grids, default_model())
 
 
@@ -28,14 +28,14 @@ def test_defect_recall_and_false_alarms(generated):
 
 
 def test_generator_is_seeded_and_balanced():
-    a, b = make_objects(12, seed=3), make_objects(12, seed=3)
+    a, b = make_objects(12, random_state=3), make_objects(12, random_state=3)
     assert np.array_equal(a.grids, b.grids)
     assert sorted(a.target.tolist()) == sorted(["square", "circle", "triangle", "rectangle"] * 3)
     assert all(bool(d) == dmg for d, dmg in zip(a.damages, a.damaged, strict=True))
 
 
 def test_belt_boxes_hold_the_objects():
-    belt = make_belt(6, width=128, lanes=2, seed=4)
+    belt = make_belt(6, width=128, lanes=2, random_state=4)
     for r0, c0, r1, c1 in belt.boxes:
         assert belt.image[r0:r1, c0:c1].any()
 
@@ -57,9 +57,18 @@ def test_class_invariant_to_position_rotation_and_size(label, angle, size, dr, d
 
 
 def test_burrs_are_found_and_do_not_change_the_class():
-    data = make_objects(160, damaged_fraction=1.0, damage_kinds=("burr",), seed=8)
+    data = make_objects(160, damaged_fraction=1.0, damage_kinds=("burr",), random_state=8)
     results = inspect_many(data.grids)
     assert np.mean([r.label == t for r, t in zip(results, data.target, strict=True)]) >= 0.98
     assert np.mean([not r.accept for r in results]) >= 0.9
     kinds = {d.kind for r in results for d in r.defects}
     assert "burr" in kinds
+
+
+def test_seed_is_a_deprecated_alias_of_random_state():
+    with pytest.warns(DeprecationWarning, match="seed= is deprecated"):
+        old = make_objects(3, seed=5)
+    new = make_objects(3, random_state=5)
+    np.testing.assert_array_equal(np.stack(old.grids), np.stack(new.grids))
+    with pytest.raises(ValueError, match="not seed= as well"), pytest.warns(DeprecationWarning):
+        make_belt(2, random_state=1, seed=1)

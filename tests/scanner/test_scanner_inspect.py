@@ -162,3 +162,8 @@ def test_learned_nominal_size():
     assert inspect(same, model, nominal_size="learned").accept
     r = inspect(small, model, nominal_size="learned")
     assert [d.kind for d in r.defects] == ["size"] and "smaller" in r.reasons[0]
+
+
+def test_ragged_grid_names_the_argument():
+    with pytest.raises(InputError, match="grid must be a rectangular array"):
+        inspect([[0, 1, 1], [1, 1]])

@@ -19,7 +19,7 @@ def scan(image, chunk, **kwargs):
 
 @pytest.fixture(scope="module")
 def belt():
-    return make_belt(16, width=96, lanes=2, gap=(1, 5), seed=11, radius_range=(5.0, 16.0))
+    return make_belt(16, width=96, lanes=2, gap=(1, 5), random_state=11, radius_range=(5.0, 16.0))
 
 
 @pytest.fixture(scope="module")
@@ -170,7 +170,7 @@ def test_scan_iterator_helper():
 @settings(max_examples=examples(15), deadline=None)
 @given(seed=st.integers(0, 10_000), cuts=st.lists(st.integers(1, 40), min_size=1, max_size=8))
 def test_chunking_invariance_property(seed, cuts):
-    belt = make_belt(4, width=64, lanes=2, gap=(1, 3), seed=seed, radius_range=(4.0, 12.0))
+    belt = make_belt(4, width=64, lanes=2, gap=(1, 3), random_state=seed, radius_range=(4.0, 12.0))
     img = belt.image
     ref = [o.to_dict() for o in scan(img, img.shape[0])]
     scanner = LineScanner(img.shape[1])

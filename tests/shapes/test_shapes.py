@@ -55,10 +55,10 @@ def test_polygon_orients_and_drops_closing_point():
         ([(0, 0), (1, 1), (2, 2)], "zero area"),
         ([(0, 0), (4, 0), (4, 4), (2, -1), (0, 4)], "intersects itself"),
         ([(0, 0), (0, 0), (0, 0)], "fewer than 3 distinct"),
-        ([(0, 0), (1, 1), (1, 0), (0, 1)], "intersects itself"),  # was "collinear"
-        ([(0, 0), (1e300, 0), (1e300, 1e300)], "too large or too small"),  # was "collinear"
+        ([(0, 0), (1, 1), (1, 0), (0, 1)], "intersects itself"),
+        ([(0, 0), (1e300, 0), (1e300, 1e300)], "too large or too small"),
         ([(0, 0), (1e-300, 0), (1e-300, 1e-300)], "too large or too small"),
-        ([(0, 0), (1, 0), (0, 1j)], "complex"),  # imaginary part was dropped
+        ([(0, 0), (1, 0), (0, 1j)], "complex"),  # the imaginary part must not be dropped
     ],
 )
 def test_polygon_rejects_bad_outlines(points, match):
@@ -120,6 +120,7 @@ def test_from_mask_errors():
         shapes.from_mask(np.ones(5))
 
 
+@pytest.mark.slow
 @needs_mpeg7
 def test_load_mpeg7(tmp_path):
     outlines, labels, names = shapes.load_mpeg7(MPEG7, max_vertices=1000, cache=tmp_path)
@@ -146,3 +147,44 @@ def test_load_mpeg7_missing_folder(tmp_path):
         shapes.load_mpeg7(tmp_path / "nope")
     with pytest.raises(InputError, match=r"no \.png"):
         shapes.load_mpeg7(tmp_path, cache=False)
+
+
+def test_from_mask_ragged_names_the_argument():
+    with pytest.raises(ShapeError, match="image must be a rectangular array"):
+        shapes.from_mask([[0, 1, 1], [1, 1]])
+
+
+def test_load_mpeg7_skips_unreadable_images_with_a_warning(tmp_path):
+    from PIL import Image
+
+    from tentaclass.errors import TentaclassWarning
+
+    img = np.zeros((20, 30), np.uint8)
+    img[5:15, 5:25] = 255
+    Image.fromarray(img).save(tmp_path / "bar-1.png")
+    Image.fromarray(img.T.copy()).save(tmp_path / "bar-2.png")
+    (tmp_path / "broken-1.png").write_bytes(b"not a png")
+    Image.fromarray(np.zeros((9, 9), np.uint8)).save(tmp_path / "empty-1.png")
+    with pytest.warns(TentaclassWarning, match=r"2 unreadable.*broken-1\.png.*empty-1\.png"):
+        outlines, labels, names = shapes.load_mpeg7(tmp_path, cache=False)
+    assert names == ["bar-1.png", "bar-2.png"] and labels.tolist() == ["bar", "bar"]
+    assert len(outlines) == 2
+
+
+@pytest.mark.parametrize(
+    "points",
+    [
+        [[-1.79769313e308, 9.97920155e291], [0, 9.97920155e291], [9.97920155e291, 9.97920155e291]],
+        [[0, 0], [5.6e102, 5.6e102], [0, 5.6e102], [5.6e102, 0]],
+        [[4.70041672e292, 1.0], [4.70041672e292, 3.82453991e15], [4.70041672e292, 0.0]],
+    ],
+)
+def test_fuzz_found_outlines_out_of_range_are_refused(points):
+    with pytest.raises(InputError, match="too large or too small"):
+        shapes.polygon(points)
+
+
+def test_signed_area_far_from_the_origin():
+    # without centring, products of 1e9 cancel to a few units of error
+    sq = shapes.square(2.0) + 1e9
+    assert shapes.signed_area(sq) == 4.0

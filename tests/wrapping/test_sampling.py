@@ -53,6 +53,7 @@ def test_errors():
         max_link_length(shapes.square(4), 1e-12, starts=[0.1])
 
 
+@pytest.mark.slow
 @needs_mpeg7
 def test_mpeg7_outline_error_grows_with_link_length():
     outlines, _, names = shapes.load_mpeg7(MPEG7, max_vertices=1000)
@@ -64,3 +65,15 @@ def test_mpeg7_outline_error_grows_with_link_length():
     assert taut[0] == pytest.approx(taut[1], rel=0.05)
     hug = [capture_error(o, f * d, starts=[0.0, 0.5], mode="hug") for f in (0.02, 0.1, 0.3)]
     assert hug[0] < hug[1] < hug[2] and hug[0] < taut[0] / 3
+
+
+def test_thin_rectangle_max_link_length_is_the_diameter():
+    # a 10 x 0.001 strip: one link across the whole strip stays within a tolerance
+    # of one diameter (this raised a GEOSException on a one-joint chain)
+    r = shapes.rectangle(10, 1e-3)
+    assert max_link_length(r, 1) == pytest.approx(np.hypot(10, 1e-3), rel=1e-6)
+
+
+def test_capture_error_refuses_a_link_too_short_for_memory():
+    with pytest.raises(InputError, match=r"link_length .* too short"):
+        capture_error(shapes.square(4), 1e-300)

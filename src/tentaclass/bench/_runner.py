@@ -182,21 +182,16 @@ def results_markdown(results: list[BenchResult], title: str = "") -> str:
     return head + "\n".join(lines) + "\n"
 
 
-def confusion_figure(result: BenchResult, max_labels: int = 30) -> Any:
+def confusion_figure(result: BenchResult, max_labels: int = 80) -> Any:
     """Confusion matrix of one result as a matplotlib Figure (not shown)."""
     from matplotlib.figure import Figure
-    from sklearn.metrics import confusion_matrix
 
-    labels = np.unique(np.concatenate([result.y_true, result.y_pred]).astype(str))
-    cm = confusion_matrix(result.y_true.astype(str), result.y_pred.astype(str), labels=labels)
-    fig = Figure(figsize=(8, 7), layout="constrained")
+    from ..plot import plot_confusion_matrix
+
+    n = len(np.unique(np.concatenate([result.y_true, result.y_pred]).astype(str)))
+    side = min(24.0, max(5.0, 0.28 * n + 2.5)) if n <= max_labels else 9.0
+    fig = Figure(figsize=(side + 1.2, side), layout="constrained")
     ax = fig.subplots()
-    im = ax.imshow(cm, cmap="Blues")
-    fig.colorbar(im, ax=ax, shrink=0.8)
-    if len(labels) <= max_labels:
-        ax.set_xticks(range(len(labels)), labels, rotation=90, fontsize=7)
-        ax.set_yticks(range(len(labels)), labels, fontsize=7)
-    ax.set_xlabel("predicted")
-    ax.set_ylabel("true")
+    plot_confusion_matrix(result.y_true, result.y_pred, ax=ax, max_labels=max_labels)
     ax.set_title(f"{result.method}: accuracy {result.accuracy:.1%}")
     return fig

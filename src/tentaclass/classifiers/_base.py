@@ -14,9 +14,10 @@ from abc import abstractmethod
 import numpy as np
 from scipy.special import logsumexp
 from sklearn.base import BaseEstimator, ClassifierMixin
-from sklearn.utils.validation import check_is_fitted, validate_data
+from sklearn.utils.validation import check_is_fitted
 
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_X
 
 
 class BaseProbabilisticClassifier(ClassifierMixin, BaseEstimator):
@@ -28,7 +29,7 @@ class BaseProbabilisticClassifier(ClassifierMixin, BaseEstimator):
 
     def _check_X(self, X: ArrayLike) -> FloatArray:
         check_is_fitted(self)
-        return validate_data(self, X, dtype=np.float64, reset=False)
+        return check_X(self, X, dtype=np.float64, reset=False)
 
     def predict_log_proba(self, X: ArrayLike) -> FloatArray:
         """Log of the class probabilities.

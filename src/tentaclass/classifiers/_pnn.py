@@ -29,16 +29,16 @@ for speed and bounded memory:
 from __future__ import annotations
 
 import itertools
-import numbers
 import os
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 import numpy as np
 from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import validate_data
 from threadpoolctl import threadpool_limits
 
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_fraction, check_spread, check_X_y
 from ..errors import InputError
 from ._base import BaseProbabilisticClassifier
 
@@ -95,7 +95,7 @@ def _sq_dist(a: FloatArray, b: FloatArray, b_sq: FloatArray) -> FloatArray:
     return np.maximum(d, 0.0, out=d)
 
 
-def auto_spread(X: FloatArray, y_idx: np.ndarray, *, return_scores: bool = False):
+def auto_spread(X: FloatArray, y_idx: np.ndarray, *, return_scores: bool = False) -> Any:
     """The spread that maximises the leave-one-out log-likelihood of the classes.
 
     Each class's Parzen density - the PNN's summation unit made a normalised
@@ -258,18 +258,9 @@ class PNNClassifier(BaseProbabilisticClassifier):
         self.dtype = dtype
 
     def _validate_params(self) -> None:
-        s = self.spread
-        if not (isinstance(s, str) and s == "auto") and (
-            isinstance(s, bool) or not isinstance(s, numbers.Real) or not (np.isfinite(s) and s > 0)
-        ):
-            raise InputError(f"spread must be 'auto' or a finite number > 0, got {s!r}")
-        if not isinstance(s, str) and s < MIN_SPREAD:
-            raise InputError(f"spread {s!r} is too small: it must be at least {MIN_SPREAD:g}")
-        r = self.reject_below
-        if r is not None and (
-            isinstance(r, bool) or not isinstance(r, numbers.Real) or not 0 <= r <= 1
-        ):
-            raise InputError(f"reject_below must be None or a number in [0, 1], got {r!r}")
+        check_spread(self.spread, minimum=MIN_SPREAD)
+        if self.reject_below is not None:
+            check_fraction(self.reject_below, "reject_below")
         self._compute_dtype()
 
     def _compute_dtype(self) -> type:
@@ -295,7 +286,7 @@ class PNNClassifier(BaseProbabilisticClassifier):
         self : PNNClassifier
         """
         self._validate_params()
-        X, y = validate_data(self, X, y, dtype=np.float64)
+        X, y = check_X_y(self, X, y, dtype=np.float64)
         check_classification_targets(y)
         classes, y_idx = np.unique(y, return_inverse=True)
         if classes.size < 2:

@@ -8,9 +8,9 @@ import numpy as np
 from sklearn.cluster import KMeans
 from sklearn.utils import check_random_state
 from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import validate_data
 
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_positive_float, check_spread, check_X_y
 from ..errors import InputError
 from ._base import BaseProbabilisticClassifier
 from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _sq_dist
@@ -232,21 +232,9 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         k = self.n_centers
         if k is not None and (isinstance(k, bool) or not isinstance(k, numbers.Integral) or k < 1):
             raise InputError(f"n_centers must be None or an integer >= 1, got {k!r}")
-        s = self.spread
-        if not (isinstance(s, str) and s == "auto") and (
-            isinstance(s, bool) or not isinstance(s, numbers.Real) or not (np.isfinite(s) and s > 0)
-        ):
-            raise InputError(f"spread must be 'auto' or a finite number > 0, got {s!r}")
-        if not isinstance(s, str) and s < MIN_SPREAD:
-            raise InputError(f"spread {s!r} is too small: it must be at least {MIN_SPREAD:g}")
+        check_spread(self.spread, minimum=MIN_SPREAD)
         for name in ("alpha", "goal"):
-            v = getattr(self, name)
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, numbers.Real)
-                or not (np.isfinite(v) and v >= 0)
-            ):
-                raise InputError(f"{name} must be a finite number >= 0, got {v!r}")
+            check_positive_float(getattr(self, name), name, allow_zero=True)
 
     def fit(self, X: ArrayLike, y: ArrayLike) -> RBFNetworkClassifier:
         """Choose the centres and the spread, and solve the output layer.
@@ -262,7 +250,7 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         self : RBFNetworkClassifier
         """
         self._validate_params()
-        X, y = validate_data(self, X, y, dtype=np.float64)
+        X, y = check_X_y(self, X, y, dtype=np.float64)
         check_classification_targets(y)
         rng = check_random_state(self.random_state)
         classes, y_idx = np.unique(y, return_inverse=True)
@@ -286,7 +274,7 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         def build(rows: np.ndarray, spread: float) -> tuple[FloatArray, FloatArray]:
             """Centres and design matrix on the training rows ``rows``."""
             Xr = X[rows]
-            if self.centers == "kmeans":
+            if fixed is not None:
                 return fixed, _design(Xr, fixed, spread)
             if self.centers == "all":
                 return Xr, _design(Xr, Xr, spread)

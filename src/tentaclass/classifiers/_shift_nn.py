@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import check_is_fitted, validate_data
+from sklearn.utils.validation import check_is_fitted
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_finite_float, check_frequency_count
+from .._validation import check_finite_float, check_frequency_count, check_X, check_X_y
 from ..errors import InputError
 from ..features import canonical_direction, periodic_signal
 from ..geometry import angles_to_points, resample_closed
@@ -143,10 +143,12 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         for name in ("mirror", "center"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
-        X, y = validate_data(self, X, y, dtype=np.float64)
-        if self.signal != "raw" and X.shape[1] < 3:
+        X, y = check_X_y(self, X, y, dtype=np.float64)
+        least = 3 if (self.signal == "shape" and self.closure == "chord") else 2
+        if self.signal != "raw" and X.shape[1] < least:
             raise InputError(
-                f"signal={self.signal!r} needs at least 3 joint angles, got {X.shape[1]}"
+                f"signal={self.signal!r} needs at least {least} joint angles, "
+                f"got {X.shape[1]} feature(s)"
             )
         check_classification_targets(y)
         self.classes_, self._y = np.unique(y, return_inverse=True)
@@ -182,7 +184,7 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         d2 : ndarray of shape (n_queries, n_train)
         """
         check_is_fitted(self)
-        X = validate_data(self, X, dtype=np.float64, reset=False)
+        X = check_X(self, X, dtype=np.float64, reset=False)
         s = self._signals(X)
         n = s.shape[1]
         spec, sq = self._spectrum(s)

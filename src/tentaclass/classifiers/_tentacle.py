@@ -3,18 +3,18 @@
 from __future__ import annotations
 
 import numpy as np
-from sklearn.base import BaseEstimator, ClassifierMixin, clone
+from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin, clone
 from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._typing import ArrayLike, FloatArray
-from ..features.transformers import FourierFeatures
+from ..features import FourierFeatures
 from ._pnn import PNNClassifier
 
 __all__ = ["TentacleClassifier"]
 
 
-class TentacleClassifier(ClassifierMixin, BaseEstimator):
+class TentacleClassifier(ClassifierMixin, TransformerMixin, BaseEstimator):
     """Object class from a tentacle's joint angles.
 
     A pipeline of :class:`~tentaclass.features.FourierFeatures` (``|DFT|`` of the
@@ -63,7 +63,7 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
 
     def __init__(
         self,
-        n_coeffs: int | None = None,
+        n_coeffs: int | float | None = None,
         detrend: bool = False,
         normalize: bool = False,
         weight_power: float = 0.0,
@@ -113,12 +113,15 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
 
     def transform(self, X: ArrayLike) -> FloatArray:
         """Feature vectors of joint-angle arrays, shape (n_samples, n_coeffs)."""
-        return self.pipeline_.named_steps["features"].transform(self._checked(X))
+        X = self._checked(X)
+        return self.pipeline_.named_steps["features"].transform(X)
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of each joint-angle array, shape (n_samples,)."""
-        return self.pipeline_.predict(self._checked(X))
+        X = self._checked(X)
+        return self.pipeline_.predict(X)
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Class probabilities, shape (n_samples, n_classes); rows sum to 1."""
-        return self.pipeline_.predict_proba(self._checked(X))
+        X = self._checked(X)
+        return self.pipeline_.predict_proba(X)

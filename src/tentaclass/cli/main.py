@@ -6,19 +6,49 @@ on stderr and exit code 1 (2 for usage errors), never a traceback.
 
 from __future__ import annotations
 
+import importlib
 import logging
 import sys
+from typing import Any
 
 import click
 
 from .. import __version__
 from ..errors import TentaclassError
 
+#: Command name -> (module in this package, one-line help). A command's module
+#: (and the libraries it needs) is imported only when the command runs, so that
+#: ``tentaclass --help`` answers at once.
+COMMANDS = {
+    "bench": ("bench", "Stratified k-fold accuracy of recognition methods on a dataset."),
+    "classify": ("classify", "Classify joint-angle arrays with a trained model."),
+    "demo": ("demo", "Train on the thesis's four shapes and classify perturbed copies."),
+    "grasp": ("grasp", "Close a simulated chain on an object in MuJoCo; print its joint angles."),
+    "scan": ("scan", "Classify and inspect objects on a conveyor belt."),
+    "serve": ("serve", "Serve the web page: draw a shape, watch a tentacle wrap and name it."),
+    "train": ("train", "Train a classifier on labelled joint-angle arrays and save it."),
+    "wrap": ("wrap", "Wrap a tentacle around an object and print its joint angles."),
+}
+
 
 class _Group(click.Group):
-    """Turns library errors into one-line CLI errors."""
+    """Loads commands on first use; turns library errors into one-line CLI errors."""
 
-    def invoke(self, ctx: click.Context):
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(set(COMMANDS) | set(self.commands))
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name not in self.commands and cmd_name in COMMANDS:
+            module = importlib.import_module(f".{COMMANDS[cmd_name][0]}", __package__)
+            self.add_command(getattr(module, cmd_name), cmd_name)
+        return self.commands.get(cmd_name)
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        rows = [(name, COMMANDS[name][1]) for name in sorted(COMMANDS)]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+    def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
         except (TentaclassError, ValueError, OSError) as exc:
@@ -46,23 +76,6 @@ def cli(ctx: click.Context, verbose: int, quiet: bool) -> None:
     logging.basicConfig(stream=sys.stderr, level=level, format="%(levelname)s: %(message)s")
     ctx.ensure_object(dict)
     ctx.obj["quiet"] = quiet
-
-
-def _register() -> None:
-    from .bench import bench
-    from .classify import classify
-    from .demo import demo
-    from .grasp import grasp
-    from .scan import scan
-    from .serve import serve
-    from .train import train
-    from .wrap import wrap
-
-    for command in (bench, classify, demo, grasp, scan, serve, train, wrap):
-        cli.add_command(command)
-
-
-_register()
 
 
 def main() -> None:

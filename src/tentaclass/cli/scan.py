@@ -186,7 +186,9 @@ def scan(
     try:
         model = ScannerModel.load(model_file) if model_file is not None else None
         if simulate is not None:
-            belt = make_belt(simulate, width or 256, seed=seed, lanes=max(1, (width or 256) // 128))
+            belt = make_belt(
+                simulate, width or 256, random_state=seed, lanes=max(1, (width or 256) // 128)
+            )
             if write_belt is not None:
                 write_pbm(write_belt, belt.image)
             source: Any = (

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -21,7 +22,9 @@ def _numbers(text: str | None, name: str) -> list[float] | None:
         raise click.BadParameter(f"{text!r} is not a list of numbers", param_hint=name) from None
 
 
-def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Path | None):
+def _outline(
+    shape: str | None, size: str | None, vertices: str | None, mask: Path | None
+) -> np.ndarray:
     from .. import shapes
 
     if mask is not None:
@@ -30,10 +33,10 @@ def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Pa
         return shapes.from_mask(shapes.read_silhouette(mask))
     shape = shape or "square"
     if shape in ("polygon", "triangle") and vertices is not None:
-        pts = _numbers(vertices, "--vertices")
+        pts = _numbers(vertices, "--vertices") or []
         if len(pts) % 2:
             raise click.BadParameter("needs x,y pairs", param_hint="--vertices")
-        xy = np.reshape(pts, (-1, 2))
+        xy = np.reshape(np.asarray(pts, dtype=float), (-1, 2))
         return shapes.triangle(xy) if shape == "triangle" else shapes.polygon(xy)
     if shape == "polygon":
         raise click.UsageError("--shape polygon needs --vertices 'x,y x,y x,y ...'")
@@ -47,8 +50,9 @@ def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Pa
         return shapes.rectangle(w, h if len(dims) > 1 else w / 3)
     if len(dims) != 1:
         raise click.BadParameter(f"{shape} takes one size", param_hint="--size")
-    return {"square": shapes.square, "circle": shapes.circle,
-            "triangle": lambda s: shapes.triangle(side=s)}[shape](dims[0])  # fmt: skip
+    makers: dict[str, Any] = {"square": shapes.square, "circle": shapes.circle,
+                              "triangle": lambda s: shapes.triangle(side=s)}  # fmt: skip
+    return makers[shape](dims[0])
 
 
 @click.command()
@@ -79,8 +83,10 @@ def _outline(shape: str | None, size: str | None, vertices: str | None, mask: Pa
 @click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction, mode, offset,
-         thickness, noise, seed, plot, as_json) -> None:  # fmt: skip
+def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
+         links: int, link_length: float | None, laps: float | None, start: float,
+         direction: str, mode: str, offset: float, thickness: float, noise: float,
+         seed: int | None, plot: Path | None, as_json: bool) -> None:  # fmt: skip
     """Wrap a tentacle of LINKS links around an object and print its joint angles.
 
     The angles are printed space-separated, as `tentaclass classify` reads
@@ -91,8 +97,8 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
 
     try:
         outline = _outline(shape, size, vertices, mask)
-        kw = {"start": start, "direction": direction, "mode": mode, "offset": offset,
-              "thickness": thickness}  # fmt: skip
+        kw: dict[str, Any] = {"start": start, "direction": direction, "mode": mode,
+                              "offset": offset, "thickness": thickness}  # fmt: skip
         if laps is not None:
             if link_length is not None:
                 raise click.UsageError("give either --link-length or --laps, not both")

@@ -1,10 +1,10 @@
 """The thesis's hand-typed data, with its typing errors corrected.
 
-Tentacle case: closed single wraps of 16 or 64 unit links (SPEC section 8,
-thesis section 3.4 and CLASSIFY.m). Scanner case: 5 x 5 binary grids
-(thesis ``twodimensional.m``). The corrections are those listed in SPEC
-section 7: the triangle turns by ``2*pi/3`` and has as many entries as the
-other shapes; every class has its own examples and exactly one label each.
+Tentacle case: closed single wraps of 16 or 64 unit links (thesis section 3.4
+and ``CLASSIFY.m``). Scanner case: 5 x 5 binary grids (thesis
+``twodimensional.m``). The corrections: the triangle turns by ``2*pi/3`` and
+has as many entries as the other shapes; every class has its own examples and
+exactly one label each.
 """
 
 from __future__ import annotations
@@ -12,11 +12,16 @@ from __future__ import annotations
 import numpy as np
 from sklearn.utils import Bunch
 
+from .._thesis_data import (
+    SCANNER_TEST,
+    THESIS_CLASSES,
+    grid_from_text,
+    scanner_training_grids,
+)
 from .._validation import check_positive_int
 from ..errors import InputError
 
-THESIS_CLASSES: tuple[str, ...] = ("square", "circle", "triangle", "rectangle")
-"""Class names in the thesis's order (its output labels SQUARE, CIRCLE, ...)."""
+__all__ = ["THESIS_CLASSES", "reference_tentacle", "thesis_scanner", "thesis_tentacle"]
 
 
 def _runs(zeros: list[int], turn: float) -> list[float]:
@@ -87,49 +92,6 @@ def thesis_tentacle(n_links: int = 16, *, return_X_y: bool = False) -> Bunch | t
     )
 
 
-def _grid(rows: str) -> np.ndarray:
-    return np.array([[c == "1" for c in r] for r in rows.split("/")], dtype=bool)
-
-
-# Training grids of twodimensional.m, four per class; the OCR garbles some of
-# them, so the smaller and shifted examples follow SPEC section 8.
-_SCANNER_TRAIN = {
-    "square": [
-        "11111/11111/11111/11111/11111",
-        "11110/11110/11110/11110/00000",
-        "00000/01110/01110/01110/00000",
-        "00000/00110/00110/00000/00000",
-    ],
-    "circle": [
-        "00100/01110/11111/01110/00100",
-        "00000/00100/01110/00100/00000",
-        "01110/11111/11111/11111/01110",
-        "00000/00000/00100/00000/00000",
-    ],
-    "triangle": [
-        "00000/00000/00100/01110/11111",
-        "00100/01110/11111/00000/00000",
-        "10000/11000/11100/11000/10000",
-        "00000/00000/00000/00100/01110",
-    ],
-    "rectangle": [
-        "00000/11111/11111/11111/11111",
-        "00000/00000/00000/11111/11111",
-        "11110/11110/11110/11110/11110",
-        "01100/01100/01100/01100/01100",
-    ],
-}
-
-# Test grids of twodimensional.m: (name, grid, correct class, thesis's answer).
-_SCANNER_TEST = [
-    ("square with a hole", "11111/11011/11011/11111/11111", "square", "triangle"),
-    ("partial object", "00000/00000/11100/11100/11100", "square", "square"),
-    ("square with a slot", "00000/11011/11011/11111/11111", "rectangle", None),
-    ("left block", "11000/11000/11000/11000/11111", None, None),
-    ("shifted block", "00000/00111/00111/00111/00000", "square", None),
-]
-
-
 def thesis_scanner() -> Bunch:
     """The thesis's 5 x 5 scanner grids: 16 training examples and the test grids.
 
@@ -153,37 +115,28 @@ def thesis_scanner() -> Bunch:
     >>> int(d.test_grids[0].sum())
     23
     """
-    grids, target = [], []
-    for cls in THESIS_CLASSES:
-        for rows in _SCANNER_TRAIN[cls]:
-            grids.append(_grid(rows))
-            target.append(cls)
+    grids, target = scanner_training_grids()
     return Bunch(
-        grids=np.stack(grids),
-        target=np.array(target),
+        grids=grids,
+        target=target,
         target_names=np.array(THESIS_CLASSES),
-        test_grids=np.stack([_grid(t[1]) for t in _SCANNER_TEST]),
-        test_names=[t[0] for t in _SCANNER_TEST],
-        test_target=np.array([t[2] or "" for t in _SCANNER_TEST]),
-        thesis_answer=np.array([t[3] or "" for t in _SCANNER_TEST]),
+        test_grids=np.stack([grid_from_text(t[1]) for t in SCANNER_TEST]),
+        test_names=[t[0] for t in SCANNER_TEST],
+        test_target=np.array([t[2] or "" for t in SCANNER_TEST]),
+        thesis_answer=np.array([t[3] or "" for t in SCANNER_TEST]),
         DESCR="Thesis scanner grids (twodimensional.m), 5 x 5, rows top to bottom.",
     )
 
 
 def _reference_outlines() -> dict[str, np.ndarray]:
     """Counter-clockwise outlines of the thesis's four classes, perimeter 1."""
-    h = np.sqrt(3) / 2
+    from ..shapes import circle, rectangle, square, triangle
+
     polys = {
-        "square": np.array([(0, 0), (1, 0), (1, 1), (0, 1)], float),
-        "circle": np.stack(
-            [
-                np.cos(np.linspace(0, 2 * np.pi, 256, endpoint=False)),
-                np.sin(np.linspace(0, 2 * np.pi, 256, endpoint=False)),
-            ],
-            axis=1,
-        ),
-        "triangle": np.array([(0, 0), (1, 0), (0.5, h)], float),
-        "rectangle": np.array([(0, 0), (3, 0), (3, 1), (0, 1)], float),
+        "square": square(1.0),
+        "circle": circle(1.0, 256),
+        "triangle": triangle(side=1.0),
+        "rectangle": rectangle(3.0, 1.0),
     }
     out = {}
     for name, p in polys.items():

@@ -1,10 +1,22 @@
 """Descriptors: joint angles -> turning function -> Fourier features."""
 
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
 from .fourier import dft_layer, fourier_features
 from .lap import last_lap
 from .outline import SIGNATURES, outline_to_series, znormalize
-from .transformers import AngleSpectrum, FourierFeatures, LastLap
 from .turning import canonical_direction, periodic_signal, turning_function
+
+if TYPE_CHECKING:
+    from .transformers import AngleSpectrum, FourierFeatures, LastLap
+
+# the scikit-learn transformers load scikit-learn on first use
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    dict.fromkeys(["AngleSpectrum", "FourierFeatures", "LastLap"], "transformers"),
+    globals(),
+)
 
 __all__ = [
     "SIGNATURES",

@@ -15,6 +15,7 @@ magnitude, which beats ``numpy.fft`` on the batch for small ``n``
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import lru_cache
 
 import numpy as np
@@ -152,6 +153,39 @@ def _features_fft(
         out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_coeffs + 1])
 
 
+#: Rows with an angle beyond this are computed scaled down (squares would overflow).
+_SCALE_ABOVE = 2.0**400
+
+
+def _rescaled_rows(
+    kernel: Callable[..., None],
+    q: FloatArray,
+    n_coeffs: int,
+    detrend: bool,
+    period: float,
+    canonicalize: bool,
+    *,
+    out: FloatArray,
+    rows: np.ndarray,
+) -> None:
+    """Features of rows of huge angles as ``s * features(q / s, period / s)``, into ``out[rows]``.
+
+    The signal ``E`` is linear in ``(q, period)``, so its spectrum scales with
+    them; ``s`` is a power of two, so the scaling itself is exact.
+    """
+    for qi, row in zip(q, rows, strict=True):
+        s = np.ldexp(1.0, int(np.frexp(np.abs(qi).max())[1]) - 1)
+        one = np.empty((1, n_coeffs))
+        kernel(qi[None] / s, n_coeffs, detrend, period / s, canonicalize, one)
+        with np.errstate(over="ignore"):
+            out[row] = one[0] * s
+        if not np.all(np.isfinite(out[row])):
+            raise InputError(
+                f"q holds angles up to {np.abs(qi).max():g}: its Fourier features "
+                "exceed the float64 range"
+            )
+
+
 def fourier_features(
     q: ArrayLike,
     n_coeffs: int | None = None,
@@ -167,7 +201,8 @@ def fourier_features(
     Parameters
     ----------
     q : array_like of shape (..., n_joints)
-        Relative joint angles, at least 3. Leading axes are a batch.
+        Relative joint angles, at least 2 (two links out and back are the
+        smallest closed chain). Leading axes are a batch.
     n_coeffs : int, optional
         Keep frequencies ``1..n_coeffs``; default all of ``1..floor(n_joints/2)``.
     detrend : bool, default=False
@@ -210,7 +245,7 @@ def fourier_features(
     >>> bool(np.allclose(f, fourier_features(-square[::-1])))
     True
     """
-    q = as_angle_array(q, "q", min_joints=3)
+    q = as_angle_array(q, "q", min_joints=2)
     period = check_positive_float(period, "period")
     n = q.shape[-1]
     if n_coeffs is None:
@@ -229,7 +264,15 @@ def fourier_features(
     flat = np.ascontiguousarray(q.reshape(-1, n))
     out = np.empty((flat.shape[0], n_coeffs))
     kernel = _features_matmul if method == "matmul" else _features_fft
-    kernel(flat, n_coeffs, bool(detrend), period, bool(canonicalize), out)
+    args = (n_coeffs, bool(detrend), period, bool(canonicalize))
+    huge = np.abs(flat).max(axis=1) > _SCALE_ABOVE
+    if huge.any():
+        tame = np.empty((int(np.count_nonzero(~huge)), n_coeffs))
+        kernel(np.ascontiguousarray(flat[~huge]), *args, tame)
+        out[~huge] = tame
+        _rescaled_rows(kernel, flat[huge], *args, out=out, rows=np.flatnonzero(huge))
+    else:
+        kernel(flat, *args, out)
     if normalize:
         out /= n
     return out.reshape(*batch, n_coeffs)

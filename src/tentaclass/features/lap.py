@@ -16,9 +16,13 @@ import numpy as np
 
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validation import as_angle_array, check_positive_int
+from ..errors import InputError
 from ..geometry import angles_to_points, points_to_angles, resample_closed
 
 __all__ = ["last_lap"]
+
+#: Largest joint angle whose multiples of a turn float64 still resolves.
+_MAX_ANGLE = 1e100
 
 
 def _closure(points: FloatArray, t: FloatArray) -> tuple[int, float] | None:
@@ -39,11 +43,18 @@ def _closure(points: FloatArray, t: FloatArray) -> tuple[int, float] | None:
     # turning left over link j..n, interpolated at the closest point of link j
     left = turn_left[:-1] - u * (turn_left[:-1] - turn_left[1:])
     ok = np.abs(left - 2 * np.pi) < np.pi / 2
-    ok[n - 2 :] = False  # a lap needs at least 3 links
+    ok[max(n - 2, 0) :] = False  # a lap needs at least 3 links
     if not ok.any():
         return None
     m = int(np.flatnonzero(ok)[np.argmin(dist[ok])])
     return m, float(u[m])
+
+
+def _resample_open(points: FloatArray, n: int) -> FloatArray:
+    """``n`` points equally spaced by arc length along an open chain, both ends kept."""
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    t = np.linspace(0.0, s[-1], n)
+    return np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
 
 
 def last_lap(
@@ -57,7 +68,7 @@ def last_lap(
         Joint angles of wraps that may start with approach links, cover more
         than one lap, or fall short of one.
     n_out : int, optional
-        Links of the output lap; default ``n_joints``.
+        Links of the output lap, at least 2; default ``n_joints``.
     link_lengths : float or array_like of shape (n_joints,), default=1.0
         Link lengths (only their ratios matter).
 
@@ -84,13 +95,18 @@ def last_lap(
     >>> bool(np.allclose(fourier_features(lap), fourier_features(square), atol=1e-9))
     True
     """
-    q = as_angle_array(q, "q", min_joints=3)
+    q = as_angle_array(q, "q", min_joints=2)
     n = q.shape[-1]
-    n_out = n if n_out is None else check_positive_int(n_out, "n_out", minimum=3)
+    n_out = n if n_out is None else check_positive_int(n_out, "n_out", minimum=2)
     batch = q.shape[:-1]
     flat = q.reshape(-1, n)
     # Clockwise wraps are mirrored (negated) but not reversed: reversing would
     # move the approach links to the end of the chain.
+    if np.abs(flat).max() > _MAX_ANGLE:
+        raise InputError(
+            f"q holds an angle of {np.abs(flat).max():g}: beyond {_MAX_ANGLE:g} the turns "
+            "of a lap cannot be resolved"
+        )
     flat = np.where(flat.sum(axis=1, keepdims=True) < 0, -flat, flat)
     points = angles_to_points(flat, link_lengths)
     t = np.cumsum(flat, axis=1)
@@ -110,7 +126,7 @@ def last_lap(
             if len(ring) < 3:  # a degenerate "lap" of coincident joints
                 ring = None
         if ring is None:
-            chain = resample_closed(points[i], n_out + 1)  # along the open chain
+            chain = _resample_open(points[i], n_out + 1)
             turns = points_to_angles(chain, closed=False)
             total = turns.sum()
             out[i] = turns * (2 * np.pi / total) if abs(total) > 1e-12 else 2 * np.pi / n_out

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.utils.validation import check_is_fitted, validate_data
+from sklearn.utils.validation import check_is_fitted
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_finite_float, check_frequency_count, check_positive_int
+from .._validation import check_finite_float, check_frequency_count, check_positive_int, check_X
 from ..errors import InputError
 from .fourier import fourier_features
 from .lap import last_lap
@@ -61,7 +61,7 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
 
     def __init__(
         self,
-        n_coeffs: int | None = None,
+        n_coeffs: int | float | None = None,
         detrend: bool = False,
         normalize: bool = False,
         weight_power: float = 0.0,
@@ -84,10 +84,12 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
         -------
         self : FourierFeatures
         """
-        X = validate_data(self, X, dtype=np.float64)
+        X = check_X(self, X, dtype=np.float64)
         n = X.shape[1]
-        if n < 3:
-            raise InputError(f"X must hold at least 3 joint angles per row, got {n}")
+        if n < 2:
+            raise InputError(
+                f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
+            )
         k = n // 2 if self.n_coeffs is None else self.n_coeffs
         self.n_coeffs_ = check_frequency_count(k, n // 2, "n_coeffs", "floor(n_joints / 2)")
         check_finite_float(self.weight_power, "weight_power")
@@ -105,7 +107,7 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
         features : ndarray of shape (n_samples, n_coeffs_)
         """
         check_is_fitted(self)
-        X = validate_data(self, X, dtype=np.float64, reset=False)
+        X = check_X(self, X, dtype=np.float64, reset=False)
         features = fourier_features(
             X, self.n_coeffs_, detrend=self.detrend, normalize=self.normalize
         )
@@ -157,16 +159,21 @@ class LastLap(TransformerMixin, BaseEstimator):
         -------
         self : LastLap
         """
-        X = validate_data(self, X, dtype=np.float64)
-        if X.shape[1] < 3:
-            raise InputError(f"X must hold at least 3 joint angles per row, got {X.shape[1]}")
-        self.n_out_ = X.shape[1] if self.n_out is None else int(self.n_out)
+        X = check_X(self, X, dtype=np.float64)
+        n = X.shape[1]
+        if n < 2:
+            raise InputError(
+                f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
+            )
+        self.n_out_ = (
+            n if self.n_out is None else check_positive_int(self.n_out, "n_out", minimum=2)
+        )
         return self
 
     def transform(self, X: ArrayLike) -> FloatArray:
         """The last lap of each row, shape (n_samples, n_out_)."""
         check_is_fitted(self)
-        X = validate_data(self, X, dtype=np.float64, reset=False)
+        X = check_X(self, X, dtype=np.float64, reset=False)
         return last_lap(X, self.n_out_)[0]
 
 
@@ -216,7 +223,7 @@ class AngleSpectrum(TransformerMixin, BaseEstimator):
         -------
         self : AngleSpectrum
         """
-        X = validate_data(self, X, dtype=np.float64)
+        X = check_X(self, X, dtype=np.float64)
         top = X.shape[1] // 2 + 1
         k = top if self.n_coeffs is None else check_positive_int(self.n_coeffs, "n_coeffs")
         if k > top:
@@ -238,7 +245,7 @@ class AngleSpectrum(TransformerMixin, BaseEstimator):
         features : ndarray of shape (n_samples, n_coeffs_)
         """
         check_is_fitted(self)
-        X = validate_data(self, X, dtype=np.float64, reset=False)
+        X = check_X(self, X, dtype=np.float64, reset=False)
         return np.abs(np.fft.rfft(X, axis=1)[:, : self.n_coeffs_]) / X.shape[1]
 
     def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:

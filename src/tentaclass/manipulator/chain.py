@@ -15,9 +15,14 @@ from collections.abc import Callable
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_float
+from .._validation import (
+    as_joint_arrays,
+    as_times,
+    as_torques,
+    check_link_parameters,
+    check_positive_float,
+)
 from ..errors import InputError
-from . import _checks
 from . import dynamics as _dyn
 from . import kinematics as _kin
 from .kinematics import ChainKinematics
@@ -84,7 +89,7 @@ class PlanarChain:
         inertia: ArrayLike | None = None,
         gravity: float = 9.81,
     ) -> None:
-        n, p = _checks.link_parameters(
+        n, p = check_link_parameters(
             link_lengths=link_lengths, masses=masses, com=com, inertia=inertia
         )
         if np.any(p["link_lengths"] <= 0):
@@ -155,7 +160,7 @@ class PlanarChain:
 
     def _joints(self, **arrays: ArrayLike) -> list[FloatArray]:
         """Validate joint arrays ``(..., n_links)`` and broadcast them together."""
-        return _checks.joint_arrays(self.n_links, **arrays)
+        return as_joint_arrays(self.n_links, **arrays)
 
     def _params(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
         return self.link_lengths, self._com_lengths, self.masses, self.inertia
@@ -450,7 +455,8 @@ class PlanarChain:
         rhs = -_dyn.rnea(q, qd, None, *self._params(), self.gravity)
         if tau is not None:
             rhs += tau
-        return np.linalg.solve(_dyn.crba(q, *self._params()), rhs[..., None])[..., 0]
+        qdd = np.linalg.solve(_dyn.crba(q, *self._params()), rhs[..., None])[..., 0]
+        return np.asarray(qdd, dtype=np.float64)
 
     def energy(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
         """Total mechanical energy: kinetic ``qd^T H qd / 2`` plus potential.
@@ -523,7 +529,7 @@ class PlanarChain:
         True
         """
         q0, qd0 = self._joints(q0=q0, qd0=qd0)
-        times = _checks.times(t)
+        times = as_times(t)
         if method not in STEPPERS:
             raise InputError(f"method must be one of {sorted(STEPPERS)}, got {method!r}")
         if torque_fn is not None and not callable(torque_fn):
@@ -532,6 +538,6 @@ class PlanarChain:
         def accel(time: float, q: FloatArray, qd: FloatArray) -> FloatArray:
             if torque_fn is None:
                 return self._accel(q, qd, None)
-            return self._accel(q, qd, _checks.torques(torque_fn(time, q, qd), q0.shape))
+            return self._accel(q, qd, as_torques(torque_fn(time, q, qd), q0.shape))
 
         return integrate(accel, np.array(q0), np.array(qd0), times, method)

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._typing import FloatArray
+from ..geometry import angles_to_points
 
 __all__ = ["ChainKinematics"]
 
@@ -76,11 +77,8 @@ def forward_kinematics(
     q: FloatArray, lengths: FloatArray, com_lengths: FloatArray
 ) -> ChainKinematics:
     """Joint and centre-of-mass positions (eqs 2.4-2.7 and 2.10)."""
-    phi, rx, ry, cx, cy = link_vectors(q, lengths, com_lengths)
-    shape = (*phi.shape[:-1], phi.shape[-1] + 1, 2)
-    joints = np.zeros(shape)
-    np.cumsum(rx, axis=-1, out=joints[..., 1:, 0])
-    np.cumsum(ry, axis=-1, out=joints[..., 1:, 1])
+    phi, _, _, cx, cy = link_vectors(q, lengths, com_lengths)
+    joints = angles_to_points(q, lengths)
     com = joints[..., :-1, :] + np.stack([cx, cy], axis=-1)
     return ChainKinematics(joints=joints, com=com, angles=phi)
 

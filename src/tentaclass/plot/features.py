@@ -14,6 +14,7 @@ from .._typing import ArrayLike
 from .._validation import as_angle_array
 from ..features import fourier_features, periodic_signal, turning_function
 from ..geometry import angles_to_points
+from ._axes import axes_or_new, without_rounding_noise
 
 __all__ = [
     "plot_features",
@@ -22,14 +23,6 @@ __all__ = [
     "plot_thesis_panel",
     "plot_turning",
 ]
-
-
-def _axes(ax: Any) -> Any:
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        ax = plt.gca()
-    return ax
 
 
 def _one(q: ArrayLike) -> np.ndarray:
@@ -44,12 +37,14 @@ def _one(q: ArrayLike) -> np.ndarray:
 def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the chain traced by the joint angles (unit links); returns the lines."""
     q = _one(q)
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     p = angles_to_points(q)
     kwargs.setdefault("marker", "o")
     lines = ax.plot(p[:, 0], p[:, 1], **kwargs)
     ax.plot(p[:1, 0], p[:1, 1], "s", color="black", label="base")
     ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [link lengths]")
+    ax.set_ylabel("y [link lengths]")
     ax.set_title("shape")
     return lines
 
@@ -57,7 +52,7 @@ def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
 def plot_turning(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the turning function t_k as a step plot; returns the lines."""
     q = _one(q)
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     k = np.arange(1, q.size + 1)
     lines = ax.step(k, turning_function(q), where="post", **kwargs)
     ax.set_xlabel("link k")
@@ -69,10 +64,13 @@ def plot_turning(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
 def plot_periodic_signal(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the periodic signal E_k = t_k - 2 pi k / n (eq 4.5); returns the lines."""
     q = _one(q)
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     k = np.arange(1, q.size + 1)
-    lines = ax.plot(k, periodic_signal(q), marker=".", **kwargs)
+    e = without_rounding_noise(periodic_signal(q), 2 * np.pi)
+    lines = ax.plot(k, e, marker=".", **kwargs)
     ax.axhline(0, color="grey", lw=0.5)
+    if not e.any():  # a regular polygon: show the zero line on a readable scale
+        ax.set_ylim(-1, 1)
     ax.set_xlabel("link k")
     ax.set_ylabel("E_k [rad]")
     ax.set_title("periodic signal")
@@ -82,9 +80,12 @@ def plot_periodic_signal(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
 def plot_features(q: ArrayLike, ax: Any = None, **kwargs: Any) -> Any:
     """Bar chart of the Fourier features |DFT(E)|_k; returns the bar container."""
     q = _one(q)
-    ax = _axes(ax)
-    f = fourier_features(q)
+    ax = axes_or_new(ax)
+    f = without_rounding_noise(fourier_features(q), 2 * np.pi * q.size)
     bars = ax.bar(np.arange(1, f.size + 1), f, **kwargs)
+    if not f.any():  # a regular polygon: every feature is zero
+        ax.set_ylim(0, 1)
+        ax.text(0.5, 0.5, "all zero", transform=ax.transAxes, ha="center", color="0.4")
     ax.set_xlabel("frequency k")
     ax.set_ylabel("|DFT(E)|")
     ax.set_title("feature vector")

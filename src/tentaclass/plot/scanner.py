@@ -15,10 +15,16 @@ import numpy as np
 
 from .._validation import as_binary_grid
 from ..errors import InputError
-from ..scanner.defects import expected_outline
-from ..scanner.descriptors import measure
-from ..scanner.model import ScannerModel, crop
-from ..scanner.records import Inspection, ScannedObject
+from ..scanner import (
+    Inspection,
+    ScannedObject,
+    ScannerModel,
+    crop,
+    expected_outline,
+    inspect,
+    measure,
+)
+from ._axes import axes_or_new
 
 __all__ = ["DEFECT_COLORS", "plot_belt", "plot_inspection", "save_belt_figure"]
 
@@ -33,14 +39,6 @@ DEFECT_COLORS: dict[str, str] = {
     "too_tall": "tab:gray",
 }
 """Colour of each defect kind's marks."""
-
-
-def _axes(ax: Any) -> Any:
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
 
 
 def plot_inspection(
@@ -83,14 +81,12 @@ def plot_inspection(
     """
     from matplotlib.patches import Rectangle
 
-    from ..scanner.inspection import inspect
-
     arr = as_binary_grid(grid, "grid")
     if arr.ndim != 2:
         raise InputError(f"grid must be 2-D, got shape {arr.shape}")
     if result is None:
         result = inspect(arr, model)
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
     kw.update(imshow_kwargs)
     image = ax.imshow(arr, **kw)
@@ -163,7 +159,7 @@ def plot_belt(
     >>> matplotlib.use("Agg")
     >>> from tentaclass.scanner import LineScanner
     >>> from tentaclass.scanner.simulate import make_belt
-    >>> belt = make_belt(4, width=64, seed=0)
+    >>> belt = make_belt(4, width=64, random_state=0)
     >>> objs = list(LineScanner(64).scan([belt.image]))
     >>> art = plot_belt(belt.image, objs)
     >>> len(art["boxes"]) == len(objs) == 4
@@ -174,7 +170,7 @@ def plot_belt(
     img = as_binary_grid(image, "image")
     if img.ndim != 2:
         raise InputError(f"image must be 2-D, got shape {img.shape}")
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
     kw.update(imshow_kwargs)
     art = ax.imshow(img, **kw)

@@ -1,32 +1,29 @@
 """Figures of wraps: the tentacle on its object, grasping spectra, sampling error.
 
-matplotlib is imported lazily; every function takes ``ax=None`` (a new figure)
+matplotlib is imported lazily; every function takes ``ax`` (None: a new figure)
 and returns its artists, and never calls ``plt.show()``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._typing import ArrayLike
+from ..features import fourier_features
 from ..shapes import as_outline
 from ..wrapping import Wrap
+from ._axes import axes_or_new
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
 
 __all__ = ["grasp_spectrum", "plot_capture_error", "plot_grasp_spectra", "plot_wrap"]
 
 
-def _axes(ax):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
-
-
-def plot_wrap(w: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, Any]:
+def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any) -> dict[str, Any]:
     """Draw the object and the chain on it: links, joints, contacts and the base.
 
     Parameters
@@ -56,38 +53,44 @@ def plot_wrap(w: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, 
     """
     from matplotlib.patches import Polygon
 
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     p = as_outline(outline)
-    obj = ax.add_patch(Polygon(p, closed=True, facecolor="0.85", edgecolor="0.4", lw=0.8))
-    style = {"color": "tab:red", "lw": 1.5, "label": "links"} | kwargs
+    obj = ax.add_patch(
+        Polygon(p, closed=True, facecolor="0.85", edgecolor="0.4", lw=0.8, label="object")
+    )
+    style: dict[str, Any] = {"color": "tab:red", "lw": 1.5, "label": "links"} | kwargs
     (links,) = ax.plot(w.joints[:, 0], w.joints[:, 1], **style)
-    joints = ax.scatter(*w.joints[1:].T, s=12, color="tab:red", zorder=3, label="joints")
-    contacts = ax.scatter(*w.joints[w.contact].T, s=30, facecolors="none",
+    xy, touching = w.joints[1:], w.joints[w.contact]
+    joints = ax.scatter(xy[:, 0], xy[:, 1], s=12, color="tab:red", zorder=3, label="joints")
+    contacts = ax.scatter(touching[:, 0], touching[:, 1], s=30, facecolors="none",
                           edgecolors="tab:blue", zorder=4, label="contacts")  # fmt: skip
     (base,) = ax.plot(*w.joints[0], "ks", ms=7, label="base")
     ax.set_aspect("equal")
     ax.autoscale_view()
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.legend(loc="best", fontsize="small")
     return {"object": obj, "links": links, "joints": joints, "contacts": contacts, "base": base}
 
 
 def grasp_spectrum(q: ArrayLike) -> np.ndarray:
     """``|DFT(E)|`` at ``k = 1..n/2`` with ``E_k = t_k - 2 pi k / n`` (thesis eq 4.5).
 
-    Not start-point or direction normalised beyond the magnitude: partial,
-    single and multiple wraps differ in exactly this spectrum.
+    The Fourier features (:func:`tentaclass.fourier_features`) without mapping
+    clockwise wraps to counter-clockwise ones: partial, single and multiple
+    wraps differ in exactly this spectrum.
 
     Examples
     --------
     >>> bool(np.allclose(grasp_spectrum(np.full(16, np.pi / 8)), 0))
     True
     """
-    q = np.asarray(q, float)
-    n = q.shape[-1]
-    e = np.cumsum(q, axis=-1) - 2 * np.pi * np.arange(1, n + 1) / n
-    return np.abs(np.fft.fft(e, axis=-1))[..., 1 : n // 2 + 1]
+    return fourier_features(q, canonicalize=False)
 
 
-def plot_grasp_spectra(arrays: Mapping[str, ArrayLike], ax=None, **kwargs: Any) -> list[Any]:
+def plot_grasp_spectra(
+    arrays: Mapping[str, ArrayLike], ax: Axes | None = None, **kwargs: Any
+) -> list[Any]:
     """Grouped bar chart of :func:`grasp_spectrum` for several joint-angle arrays.
 
     Parameters
@@ -102,7 +105,7 @@ def plot_grasp_spectra(arrays: Mapping[str, ArrayLike], ax=None, **kwargs: Any) 
     -------
     bars : list of BarContainer, one per array.
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     spectra = {k: grasp_spectrum(v) for k, v in arrays.items()}
     width = 0.8 / max(len(spectra), 1)
     out = []
@@ -117,8 +120,8 @@ def plot_grasp_spectra(arrays: Mapping[str, ArrayLike], ax=None, **kwargs: Any) 
 
 
 def plot_capture_error(
-    curves: Mapping[str, tuple[Sequence[float], Sequence[float]]],
-    ax=None,
+    curves: Mapping[str, tuple[ArrayLike, ArrayLike]],
+    ax: Axes | None = None,
     marks: Mapping[str, Sequence[float]] | None = None,
     **kwargs: Any,
 ) -> dict[str, Any]:
@@ -136,16 +139,17 @@ def plot_capture_error(
     -------
     artists : dict of label -> Line2D (guides under ``"mark: <label>"``).
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     out: dict[str, Any] = {}
     for label, (x, y) in curves.items():
         (out[label],) = ax.plot(x, y, marker=".", label=label, **kwargs)
     for label, xs in (marks or {}).items():
-        for j, x in enumerate(xs):
+        for j, x_mark in enumerate(xs):
             out[f"mark: {label}" + (f" {j}" if j else "")] = ax.axvline(
-                x, color="0.5", ls=":", lw=1)  # fmt: skip
-            ax.annotate(label, (x, 1), xycoords=("data", "axes fraction"), fontsize=8,
-                        ha="center", va="bottom")  # fmt: skip
+                x_mark, color="0.5", ls=":", lw=1)  # fmt: skip
+            # inside the axes, just below the top: clear of the title above
+            ax.annotate(label, (x_mark, 0.98), xycoords=("data", "axes fraction"), fontsize=8,
+                        xytext=(3, 0), textcoords="offset points", ha="left", va="top")  # fmt: skip
     ax.set_xlabel("link length / object size")
     ax.set_ylabel("Hausdorff error / diameter")
     ax.legend()

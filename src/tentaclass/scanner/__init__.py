@@ -11,9 +11,10 @@
 - figures are in :mod:`tentaclass.plot.scanner`.
 """
 
-from .defects import DefectSettings
+from .defects import DefectSettings, expected_outline
+from .descriptors import Geometry, measure
 from .inspection import inspect, inspect_many
-from .model import ScannerModel, default_model
+from .model import ScannerModel, crop, default_model
 from .records import DEFECT_KINDS, Defect, Inspection, ScannedObject
 from .stream import LineScanner
 
@@ -21,11 +22,15 @@ __all__ = [
     "DEFECT_KINDS",
     "Defect",
     "DefectSettings",
+    "Geometry",
     "Inspection",
     "LineScanner",
     "ScannedObject",
     "ScannerModel",
+    "crop",
     "default_model",
+    "expected_outline",
     "inspect",
     "inspect_many",
+    "measure",
 ]

@@ -22,7 +22,7 @@ Descriptor groups (``descriptors=`` of :class:`~tentaclass.scanner.ScannerModel`
     "circle" and a 2 x 2 "square" have the same hull shape).
 ``"outline"``
     the same Fourier features of the object's own outline
-    (:func:`skimage.measure.find_contours` on the hole-filled mask): sees
+    (:func:`tentaclass.shapes.from_mask` of the hole-filled mask): sees
     concave classes, but also bites.
 ``"region"``
     solidity, extent and eccentricity of the mask
@@ -41,12 +41,13 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from scipy import ndimage
-from skimage.measure import find_contours, regionprops
+from skimage.measure import regionprops
 from skimage.morphology import disk
 
 from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
+from ..shapes import from_mask
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -220,10 +221,11 @@ def _hull_scalars(g: Geometry) -> list[float]:
 
 
 def _outline_ring(g: Geometry) -> np.ndarray | None:
-    padded = np.pad(g.filled, 1).astype(float)
-    contours = find_contours(padded, 0.5)
-    c = max(contours, key=len)[:-1] if contours else np.empty((0, 2))
-    return c[:, ::-1] if len(c) >= 3 else None
+    """The object's outer outline (:func:`tentaclass.shapes.from_mask`), or None if degenerate."""
+    try:
+        return from_mask(g.filled)
+    except InputError:
+        return None
 
 
 def _region_features(g: Geometry) -> np.ndarray:
@@ -309,11 +311,11 @@ def features_matrix(
             rings = [np.asarray(g.hull.exterior.coords)[:-1] for g in geoms]
             parts.append(_outlines_fourier(rings, n_points, n_coeffs))
         elif group == "outline":
-            rings = [_outline_ring(g) for g in geoms]
-            ok = [i for i, r in enumerate(rings) if r is not None]
+            found = [(i, r) for i, g in enumerate(geoms) if (r := _outline_ring(g)) is not None]
             block = np.zeros((n, n_coeffs))
-            if ok:
-                block[ok] = _outlines_fourier([rings[i] for i in ok], n_points, n_coeffs)
+            if found:
+                ok = [i for i, _ in found]
+                block[ok] = _outlines_fourier([r for _, r in found], n_points, n_coeffs)
             parts.append(block)
         elif group == "region":
             parts.append(np.array([_region_features(g) for g in geoms]).reshape(n, -1))

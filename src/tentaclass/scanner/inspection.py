@@ -8,11 +8,11 @@ from typing import Any
 import numpy as np
 from scipy import ndimage
 
-from .._validation import check_positive_float
+from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
 from .defects import DefectSettings, find_defects
 from .descriptors import Geometry, measure
-from .model import ScannerModel, _check_grid2d, as_grid_list, crop, default_model
+from .model import ScannerModel, crop, default_model
 from .records import Defect, Inspection
 
 __all__ = ["NominalSize", "inspect", "inspect_many"]
@@ -254,7 +254,7 @@ def inspect(
     ('length 3.0 px, nominal 5.0 px: 40% smaller (tolerance 10%)',)
     """
     model, settings, tol = _check_options(model, settings, size_tolerance)
-    arr = _check_grid2d(grid)
+    arr = as_binary_grid_2d(grid)
     if not arr.any():
         raise InputError("grid holds no object pixels")
     mask, top, left = crop(arr)

@@ -21,9 +21,9 @@ from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from sklearn.neighbors import KNeighborsClassifier
 from sklearn.utils.validation import check_is_fitted
 
-from .._validation import as_binary_grid, check_positive_int
+from .._thesis_data import scanner_training_grids
+from .._validation import as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
-from ..datasets import thesis_scanner
 from ..errors import InputError, ModelFileError
 from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure
 
@@ -36,30 +36,6 @@ FORMAT_VERSION = 1
 
 # Classifiers a model file can name: rebuilt from their JSON parameters on load.
 _SAVABLE = {"PNNClassifier": PNNClassifier, "KNeighborsClassifier": KNeighborsClassifier}
-
-
-def as_grid_list(grids: Any, name: str = "grids") -> list[np.ndarray]:
-    """Validate a 3-D array or a sequence of 2-D binary grids (shapes may differ)."""
-    if isinstance(grids, np.ndarray) and grids.ndim == 3:
-        seq = list(grids)
-    elif isinstance(grids, np.ndarray) or not isinstance(grids, Sequence):
-        raise InputError(
-            f"{name} must be a sequence of 2-D grids or a 3-D array, got {type(grids).__name__}"
-            + (f" of shape {grids.shape}" if isinstance(grids, np.ndarray) else "")
-        )
-    else:
-        seq = list(grids)
-    out = []
-    for i, g in enumerate(seq):
-        arr = as_binary_grid(g, f"{name}[{i}]")
-        if arr.ndim != 2:
-            raise InputError(f"{name}[{i}] must be 2-D, got shape {arr.shape}")
-        if not arr.any():
-            raise InputError(f"{name}[{i}] holds no object pixels")
-        out.append(arr)
-    if not out:
-        raise InputError(f"{name} is empty")
-    return out
 
 
 def crop(grid: np.ndarray) -> tuple[np.ndarray, int, int]:
@@ -252,10 +228,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         (3.5, 3.5)
         """
         check_is_fitted(self)
-        return {
-            str(c): tuple(float(v) for v in np.median(self.sizes_[self.labels_ == c], axis=0))
-            for c in self.classes_
-        }
+        medians = {str(c): np.median(self.sizes_[self.labels_ == c], axis=0) for c in self.classes_}
+        return {c: (float(m[0]), float(m[1])) for c, m in medians.items()}
 
     # -- files -------------------------------------------------------------------------------
     def save(self, path: str | Path) -> None:
@@ -403,10 +377,10 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
 def _default_model() -> ScannerModel:
     from .simulate import make_objects
 
-    d = thesis_scanner()
-    gen = make_objects(400, damaged_fraction=0.0, radius_range=(4.0, 28.0), seed=0)
-    grids = list(d.grids) + list(gen.grids)
-    labels = np.concatenate([d.target, gen.target])
+    thesis_grids, thesis_target = scanner_training_grids()
+    gen = make_objects(400, damaged_fraction=0.0, radius_range=(4.0, 28.0), random_state=0)
+    grids = list(thesis_grids) + list(gen.grids)
+    labels = np.concatenate([thesis_target, gen.target])
     return ScannerModel().fit(grids, labels)
 
 
@@ -432,10 +406,3 @@ def default_model() -> ScannerModel:
     ['circle', 'rectangle', 'square', 'triangle']
     """
     return _default_model()
-
-
-def _check_grid2d(grid: Any, name: str = "grid") -> np.ndarray:
-    arr = as_binary_grid(grid, name)
-    if arr.ndim != 2:
-        raise InputError(f"{name} must be 2-D (rows, cols), got shape {arr.shape}")
-    return arr

@@ -11,14 +11,16 @@ corner) and *burrs* (a thin strip added outside).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from scipy import ndimage
 from skimage.draw import disk, polygon
 from sklearn.utils import Bunch, check_random_state
 
+from .._deprecation import UNSET, renamed
+from .._thesis_data import THESIS_CLASSES
 from .._validation import check_positive_float, check_positive_int
-from ..datasets import THESIS_CLASSES
 from ..errors import InputError
 
 __all__ = ["DAMAGE_KINDS", "draw_shape", "make_belt", "make_objects", "shape_polygon"]
@@ -239,7 +241,8 @@ def make_objects(
     damaged_fraction: float = 0.5,
     damage_kinds: Sequence[str] = ("hole", "bite"),
     radius_range: tuple[float, float] = (10.0, 28.0),
-    seed: int | np.random.RandomState | None = None,
+    random_state: int | np.random.RandomState | None = None,
+    seed: Any = UNSET,
 ) -> Bunch:
     """Random objects of the thesis classes, some damaged, each in its own grid.
 
@@ -257,8 +260,10 @@ def make_objects(
         Kinds to draw from.
     radius_range : tuple of 2 floats, default=(10, 28)
         Circumradius of the objects in pixels (sets their size).
-    seed : int, RandomState or None
+    random_state : int, RandomState or None
         Seed for reproducible sets.
+    seed : deprecated
+        Old name of ``random_state``, removed in the next release.
 
     Returns
     -------
@@ -270,7 +275,7 @@ def make_objects(
 
     Examples
     --------
-    >>> d = make_objects(8, seed=0)
+    >>> d = make_objects(8, random_state=0)
     >>> d.grids.shape, d.target[:4].tolist()
     ((8, 64, 64), ['square', 'circle', 'triangle', 'rectangle'])
     >>> int(d.damaged.sum())
@@ -282,7 +287,7 @@ def make_objects(
     for kind in damage_kinds:
         if kind not in DAMAGE_KINDS:
             raise InputError(f"damage kinds must be among {list(DAMAGE_KINDS)}, got {kind!r}")
-    rng = check_random_state(seed)
+    rng = check_random_state(renamed("random_state", random_state, "seed", seed))
     n_damaged = round(n_objects * damaged_fraction)
     damaged = np.zeros(n_objects, dtype=bool)
     damaged[rng.permutation(n_objects)[:n_damaged]] = True
@@ -323,7 +328,8 @@ def make_belt(
     damage_kinds: Sequence[str] = ("hole", "bite"),
     radius_range: tuple[float, float] = (6.0, 20.0),
     lanes: int = 1,
-    seed: int | np.random.RandomState | None = None,
+    random_state: int | np.random.RandomState | None = None,
+    seed: Any = UNSET,
 ) -> Bunch:
     """A belt image with objects passing one after another (or side by side in lanes).
 
@@ -340,8 +346,10 @@ def make_belt(
     lanes : int, default=1
         Objects travel in this many side-by-side lanes of ``width // lanes``
         pixels each, so several objects can be under the sensor at once.
-    seed : int, RandomState or None
-        Seed.
+    random_state : int, RandomState or None
+        Seed for a reproducible belt.
+    seed : deprecated
+        Old name of ``random_state``, removed in the next release.
 
     Returns
     -------
@@ -352,7 +360,7 @@ def make_belt(
 
     Examples
     --------
-    >>> b = make_belt(3, width=64, seed=1)
+    >>> b = make_belt(3, width=64, random_state=1)
     >>> b.image.shape[1], b.target.shape, b.boxes.shape
     (64, (3,), (3, 4))
     """
@@ -365,7 +373,7 @@ def make_belt(
             f"lanes of {lane_w} pixels are too narrow for objects of circumradius up to "
             f"{radius_range[1]}; use a wider belt, fewer lanes or a smaller radius_range"
         )
-    rng = check_random_state(seed)
+    rng = check_random_state(renamed("random_state", random_state, "seed", seed))
     side = int(np.ceil(2 * radius_range[1])) + 4
     objs = make_objects(
         n_objects,
@@ -373,7 +381,7 @@ def make_belt(
         damaged_fraction=damaged_fraction,
         damage_kinds=damage_kinds,
         radius_range=radius_range,
-        seed=rng,
+        random_state=rng,
     )
     order = rng.permutation(n_objects)
     objs.grids, objs.target = objs.grids[order], objs.target[order]
@@ -388,10 +396,10 @@ def make_belt(
         placed.append((top, lane * lane_w, crop))
         lane_end[lane] = top + crop.shape[0]
     image = np.zeros((int(lane_end.max()) + int(gap[0]) + 1, width), dtype=bool)
-    boxes = []
+    box_rows = []
     for top, left, crop in placed:
         image[top : top + crop.shape[0], left : left + crop.shape[1]] |= crop
         cols = np.nonzero(crop.any(axis=0))[0]
-        boxes.append((top, left + cols[0], top + crop.shape[0], left + cols[-1] + 1))
-    boxes = np.array(boxes, dtype=int).reshape(-1, 4)
+        box_rows.append((top, left + cols[0], top + crop.shape[0], left + cols[-1] + 1))
+    boxes = np.array(box_rows, dtype=int).reshape(-1, 4)
     return Bunch(image=image, target=objs.target, damaged=objs.damaged, boxes=boxes)

@@ -5,13 +5,14 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_int
-from ..errors import InputError, ShapeError
+from .._validation import as_rectangular_array, check_positive_int
+from ..errors import InputError, ShapeError, TentaclassWarning
 from ..geometry import resample_closed
 from ._outline import as_outline
 
@@ -57,7 +58,7 @@ def from_mask(image: ArrayLike) -> FloatArray:
     from scipy import ndimage
     from skimage import measure
 
-    arr = np.asarray(image)
+    arr = as_rectangular_array(image, "image")
     if arr.ndim != 2:
         raise ShapeError(f"image must be a 2-D array, got shape {arr.shape}")
     if arr.dtype != bool:
@@ -111,34 +112,59 @@ def _cache_file(cache_dir: Path, files: list[Path], max_vertices: int | None) ->
     return cache_dir / f"mpeg7-{h.hexdigest()[:16]}.npz"
 
 
+def _decode(
+    files: list[Path], max_vertices: int | None
+) -> tuple[list[np.ndarray | None], list[str]]:
+    """Outlines of the readable files (None for the others), and what went wrong."""
+    outlines: list[np.ndarray | None] = []
+    bad: list[str] = []
+    for f in files:
+        try:
+            outline = from_mask(read_silhouette(f))
+        except (OSError, InputError) as exc:  # unreadable, truncated or empty image
+            bad.append(f"{f.name} ({exc})")
+            outlines.append(None)
+            continue
+        if max_vertices is not None and len(outline) > max_vertices:
+            outline = as_outline(resample_closed(outline, max_vertices), f.name)
+        outlines.append(outline)
+    return outlines, bad
+
+
 @functools.lru_cache(maxsize=4)
 def _load_cached(
-    folder: str, max_vertices: int | None, cache_dir: str | None
-) -> tuple[tuple[np.ndarray, ...], tuple]:
+    folder: str, fingerprint: str, max_vertices: int | None, cache_dir: str | None
+) -> tuple[tuple[np.ndarray, ...], tuple[tuple[str, ...], tuple[str, ...]], tuple[str, ...]]:
     files = sorted(Path(folder).glob("*.png"), key=lambda p: p.name.lower())
-    names = [f.name for f in files]
-    labels = [f.stem.rsplit("-", 1)[0] for f in files]
     store = _cache_file(Path(cache_dir), files, max_vertices) if cache_dir else None
+    bad: list[str] = []
     if store is not None and store.is_file():
         with np.load(store) as z:
             xy, cuts = z["xy"], z["cuts"]
-        outlines = np.split(xy, cuts[1:-1])
+        decoded: list[np.ndarray | None] = [*np.split(xy, cuts[1:-1])]
     else:
-        outlines = []
-        for f in files:
-            outline = from_mask(read_silhouette(f))
-            if max_vertices is not None and len(outline) > max_vertices:
-                outline = as_outline(resample_closed(outline, max_vertices), f.name)
-            outlines.append(outline)
-        if store is not None and outlines:
+        decoded, bad = _decode(files, max_vertices)
+        if store is not None and decoded and not bad:
             store.parent.mkdir(parents=True, exist_ok=True)
-            cuts = np.cumsum([0] + [len(o) for o in outlines])
+            cuts = np.cumsum([0] + [len(o) for o in decoded if o is not None])
             tmp = store.with_suffix(".tmp.npz")
-            np.savez(tmp, xy=np.concatenate(outlines), cuts=cuts)
+            np.savez(tmp, xy=np.concatenate([o for o in decoded if o is not None]), cuts=cuts)
             tmp.replace(store)
-    for o in outlines:
+    kept = [(f, o) for f, o in zip(files, decoded, strict=True) if o is not None]
+    for _, o in kept:
         o.setflags(write=False)
-    return tuple(outlines), (tuple(labels), tuple(names))
+    names = tuple(f.name for f, _ in kept)
+    labels = tuple(f.stem.rsplit("-", 1)[0] for f, _ in kept)
+    return tuple(o for _, o in kept), (labels, names), tuple(bad)
+
+
+def _fingerprint(folder: Path) -> str:
+    """Names, sizes and modification times of the folder's images."""
+    h = hashlib.sha1()
+    for f in sorted(folder.glob("*.png")):
+        st = f.stat()
+        h.update(f"{f.name} {st.st_size} {st.st_mtime_ns}".encode())
+    return h.hexdigest()
 
 
 def _default_cache_dir() -> Path:
@@ -177,10 +203,17 @@ def load_mpeg7(
     names : list of str
         File names, sorted case-insensitively.
 
+    Warns
+    -----
+    TentaclassWarning
+        Listing the images that could not be read or hold no object; they are
+        left out and the others are returned.
+
     Notes
     -----
     Decoding all 1400 images takes about 10 s; results are also kept in memory
-    per ``(folder, max_vertices, cache)``.
+    per folder (and its files' names, sizes and modification times),
+    ``max_vertices`` and ``cache``.
     """
     path = Path(folder).expanduser().resolve()
     if not path.is_dir():
@@ -193,7 +226,17 @@ def load_mpeg7(
         cache_dir = None
     else:
         cache_dir = str(Path(cache).expanduser().resolve())
-    outlines, (labels, names) = _load_cached(str(path), max_vertices, cache_dir)
+    outlines, (labels, names), bad = _load_cached(
+        str(path), _fingerprint(path), max_vertices, cache_dir
+    )
+    if bad:
+        warnings.warn(
+            f"load_mpeg7 skipped {len(bad)} unreadable image(s) in {str(path)!r}: "
+            + "; ".join(bad),
+            TentaclassWarning,
+            stacklevel=2,
+        )
     if not outlines:
-        raise InputError(f"no .png files found in {str(path)!r}")
+        what = "no readable .png files" if bad else "no .png files"
+        raise InputError(f"{what} found in {str(path)!r}")
     return list(outlines), np.array(labels), list(names)

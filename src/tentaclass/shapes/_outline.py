@@ -28,8 +28,13 @@ __all__ = [
 
 def signed_area(outline: FloatArray) -> float:
     """Shoelace area: positive for a counter-clockwise outline."""
-    x, y = outline[:, 0], outline[:, 1]
+    # relative to the first point: far from the origin the products would overflow
+    x, y = outline[:, 0] - outline[0, 0], outline[:, 1] - outline[0, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+#: Spans of an outline that areas and intersection tests can compute with.
+_MIN_SPAN, _MAX_SPAN = 1e-100, 1e100
 
 
 def as_outline(points: ArrayLike, name: str = "outline") -> FloatArray:
@@ -48,8 +53,10 @@ def as_outline(points: ArrayLike, name: str = "outline") -> FloatArray:
     p = p[keep]
     if len(p) < 3:
         raise InputError(f"{name} has fewer than 3 distinct points ({len(p)})")
-    scale = float(np.ptp(p, axis=0).max())
-    if not np.isfinite(scale * scale) or scale * scale == 0:
+    with np.errstate(over="ignore"):  # a span beyond float range is refused below
+        scale = float(np.ptp(p, axis=0).max())
+    # products of coordinates (areas, intersection tests) must stay in range
+    if not _MIN_SPAN <= scale <= _MAX_SPAN or np.abs(p).max() > _MAX_SPAN:
         raise InputError(
             f"{name} spans {scale:g}: too large or too small to compute with; rescale it"
         )

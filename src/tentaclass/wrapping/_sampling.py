@@ -1,4 +1,4 @@
-"""How well a chain of links samples an outline (thesis section 4.5).
+"""How well a chain of links samples an outline.
 
 A link of length ``l`` samples the outline at spatial frequency ``1 / l``:
 detail finer than about ``2 l`` is lost. These functions measure that loss on
@@ -18,6 +18,9 @@ from ._api import wrap, wrap_many
 from ._surface import build_surface
 
 __all__ = ["capture_error", "closing_link_length", "link_length_for_laps", "max_link_length"]
+
+#: Most links :func:`capture_error` puts on one lap.
+MAX_LINKS_PER_LAP = 1_000_000
 
 
 def _diameter(outline: np.ndarray) -> float:
@@ -59,6 +62,11 @@ def capture_error(
     ln = check_positive_float(link_length, "link_length")
     st = np.atleast_1d(np.asarray(starts, float))
     per = float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
+    if not per / ln <= MAX_LINKS_PER_LAP:
+        raise InputError(
+            f"link_length {link_length!r} is too short for this outline: one lap would take "
+            f"{per / ln:.3g} links (at most {MAX_LINKS_PER_LAP:,})"
+        )
     n = int(np.ceil(per / ln)) + 2
     batch = wrap_many(p, n, ln, starts=st, mode=mode)
     ring = shapely.LinearRing(p)
@@ -69,9 +77,19 @@ def capture_error(
         joints = w.joints[(w.lap >= -1) & (np.maximum.accumulate(w.lap) <= 0)]
         if len(joints) < 3:
             joints = w.joints
-        chain = shapely.LinearRing(joints) if len(joints) >= 3 else shapely.LineString(joints)
+        chain = _chain_geometry(joints)
         errors.append(shapely.hausdorff_distance(chain, ring) / diameter)
     return float(np.mean(errors))
+
+
+def _chain_geometry(joints: np.ndarray) -> shapely.Geometry:
+    """The joints as a ring, a line or a point, whichever they can form."""
+    distinct = np.unique(joints, axis=0)
+    if len(distinct) >= 3:
+        return shapely.LinearRing(joints)
+    if len(distinct) == 2:
+        return shapely.LineString(distinct)
+    return shapely.Point(distinct[0])
 
 
 def max_link_length(
