@@ -12,6 +12,8 @@ folds and weighted by their held-out accuracy.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import log_softmax
@@ -25,6 +27,10 @@ from ..features.outline import znormalize
 from ._base import BaseProbabilisticClassifier
 from ._shift_nn import ShiftNNClassifier
 
+if TYPE_CHECKING:
+    from aeon.transformations.collection.convolution_based import MiniRocket
+    from sklearn.linear_model import RidgeClassifier, RidgeClassifierCV
+
 __all__ = ["OutlineClassifier"]
 
 #: Training copies at random shifts (every other one mirrored) per series.
@@ -37,7 +43,7 @@ _N_FOLDS = 3
 _MIN_LENGTH = 9
 
 
-def _minirocket(random_state: int) -> object:
+def _minirocket(random_state: int) -> MiniRocket:
     try:
         from aeon.transformations.collection.convolution_based import MiniRocket
     except ImportError as exc:  # pragma: no cover - depends on the environment
@@ -118,6 +124,8 @@ class OutlineClassifier(BaseProbabilisticClassifier):
         self.random_state = random_state
 
     def _augment(self, Z: FloatArray, rng: np.random.RandomState) -> FloatArray:
+        n: int
+        m: int
         n, m = Z.shape
         copies = [Z]
         for i in range(_N_AUGMENT):
@@ -140,9 +148,11 @@ class OutlineClassifier(BaseProbabilisticClassifier):
         F = self._rocket.transform(Z[:, None, :])
         return (np.asarray(F, dtype=np.float64) - self._mu) / self._sd
 
-    def _rocket_scores(self, Z: FloatArray, ridge: object) -> FloatArray:
-        s = sum(ridge.decision_function(self._rocket_features(v)) for v in self._query_views(Z))
-        s = np.asarray(s, dtype=np.float64) / (2 * _N_QUERY_SHIFTS)
+    def _rocket_scores(
+        self, Z: FloatArray, ridge: RidgeClassifier | RidgeClassifierCV
+    ) -> FloatArray:
+        total = sum(ridge.decision_function(self._rocket_features(v)) for v in self._query_views(Z))
+        s = np.asarray(total, dtype=np.float64) / (2 * _N_QUERY_SHIFTS)
         if s.ndim == 1:  # two classes: one score for the second class
             s = np.column_stack([-s, s]) / 2
         return s
@@ -221,7 +231,7 @@ class OutlineClassifier(BaseProbabilisticClassifier):
         return self
 
     @staticmethod
-    def _prepare(X: FloatArray) -> FloatArray:
+    def _prepare(X: ArrayLike) -> FloatArray:
         """z-normalised series, resampled periodically to MiniRocket's shortest length."""
         Z = znormalize(X, "X")
         m = Z.shape[1]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 import numpy as np
@@ -12,11 +13,16 @@ from ..errors import TentaclassError
 from .options import object_options
 from .wrap import _outline
 
+if TYPE_CHECKING:
+    from ..physics import PhysicalGrasp
+
 #: Most frames an animation gets (the recorded ones are thinned to this).
 MAX_FRAMES = 80
 
 
-def _save_figures(g, outline, plot: Path | None, gif: Path | None) -> None:
+def _save_figures(
+    g: PhysicalGrasp, outline: np.ndarray, plot: Path | None, gif: Path | None
+) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -59,8 +65,10 @@ def _save_figures(g, outline, plot: Path | None, gif: Path | None) -> None:
 @click.option("--gif", type=click.Path(dir_okay=False, path_type=Path),
               help="Save an animation of the chain closing (GIF).")  # fmt: skip
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def grasp(shape, size, vertices, mask, links, link_length, start, direction, offset, thickness,
-          friction, plot, gif, as_json) -> None:  # fmt: skip
+def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
+          links: int, link_length: float | None, start: float, direction: str, offset: float,
+          thickness: float | None, friction: float, plot: Path | None, gif: Path | None,
+          as_json: bool) -> None:  # fmt: skip
     """Close a simulated tentacle of LINKS links on an object and print its joint angles.
 
     The chain unrolls link after link in MuJoCo, each link curling until a

@@ -7,7 +7,9 @@ Angles are numbers or simple expressions of pi (``pi/2``, ``2*pi/3``,
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any, TypeVar
 
 import click
 import numpy as np
@@ -18,6 +20,8 @@ _ANGLE = re.compile(
     re.IGNORECASE,
 )
 _SPLIT = re.compile(r"[\s,;]+")
+
+_Command = TypeVar("_Command", bound=Callable[..., Any])
 
 
 def parse_angle(token: str) -> float:
@@ -119,10 +123,10 @@ def finite(ctx, param, value):
     return value
 
 
-def object_options(verb: str):
+def object_options(verb: str) -> Callable[[_Command], _Command]:
     """The options that name an object (``--shape``, ``--size``, ``--vertices``, ``--mask``)."""
 
-    def decorate(func):
+    def decorate(func: _Command) -> _Command:
         for option in reversed([
             click.option("--shape", type=click.Choice(["circle", "square", "rectangle",
                          "triangle", "polygon"]), help="Primitive object (default square)."),

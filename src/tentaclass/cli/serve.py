@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import socket
 from pathlib import Path
 
 import click
@@ -27,21 +28,20 @@ def serve(host: str, port: int, data_dir: Path | None) -> None:
         raise click.ClickException(
             "the web page needs the 'web' extra: pip install 'tentaclass[web]'"
         ) from None
-    app = create_app(data_dir)
-    config = uvicorn.Config(app, host=host, port=port, log_level="warning")
-    server = uvicorn.Server(config)
     shown = f"[{host}]" if ":" in host else host
 
-    original = server.startup
+    class AnnouncingServer(uvicorn.Server):
+        """A uvicorn server that prints the address it listens on once it does."""
 
-    async def startup(sockets=None):
-        await original(sockets=sockets)
-        if server.started:
-            bound = port
-            for s in server.servers:
-                for sock in s.sockets:
-                    bound = sock.getsockname()[1]
-            click.echo(f"tentaclass serving on http://{shown}:{bound}/ (API docs at /docs)")
+        async def startup(self, sockets: list[socket.socket] | None = None) -> None:
+            await super().startup(sockets=sockets)
+            if self.started:
+                bound = port
+                for s in self.servers:
+                    for sock in s.sockets:
+                        bound = sock.getsockname()[1]
+                click.echo(f"tentaclass serving on http://{shown}:{bound}/ (API docs at /docs)")
 
-    server.startup = startup
-    server.run()
+    app = create_app(data_dir)
+    config = uvicorn.Config(app, host=host, port=port, log_level="warning")
+    AnnouncingServer(config).run()

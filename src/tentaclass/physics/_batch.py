@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from typing import Any, cast
 
 import numpy as np
 
@@ -22,7 +23,7 @@ def grasp_many(
     offset: ArrayLike = 0.0,
     direction: str | Sequence[str] = "ccw",
     n_jobs: int | None = None,
-    **kwargs,
+    **kwargs: Any,
 ) -> list[PhysicalGrasp]:
     """Physical grasps of many objects or from many start points.
 
@@ -63,11 +64,14 @@ def grasp_many(
     off = np.atleast_1d(np.asarray(offset, dtype=float))
     if st.ndim != 1 or off.ndim != 1:
         raise InputError("starts and offset must be scalars or 1-D arrays")
+    # numpy's ArrayLike cannot say "a sequence of array_likes": the checks above
+    # tell one outline from many, the casts record their outcome
+    rows: list[ArrayLike]
     if single:
         b = int(np.broadcast_shapes(st.shape, off.shape)[0])
-        rows = [outlines] * b
+        rows = [cast(ArrayLike, outlines)] * b
     else:
-        rows = list(outlines)
+        rows = list(cast(Iterable[ArrayLike], outlines))
         b = len(rows)
     try:
         st, off = np.broadcast_to(st, (b,)), np.broadcast_to(off, (b,))

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
 
 from .._typing import FloatArray
+from ..manipulator import PlanarChain
 from ._model import _mujoco, build_model
 
 __all__ = ["CurlController"]
@@ -83,8 +85,10 @@ class CurlController:
 class _Sim:
     """One grasp in normalised units (mean link length 1)."""
 
-    def __init__(self, chain, outline, pieces, base, heading, q0, first, r, friction, ctrl, rec,
-                 timestep, poly):  # fmt: skip
+    def __init__(self, chain: PlanarChain, outline: FloatArray, pieces: list[FloatArray],
+                 base: FloatArray, heading: float, q0: FloatArray, first: int, r: float,
+                 friction: float, ctrl: CurlController, rec: int, timestep: float,
+                 poly: shapely.Polygon) -> None:  # fmt: skip
         self.mj = _mujoco()
         n = chain.n_links
         self.cm = build_model(
@@ -159,15 +163,15 @@ class _Sim:
             if others is not None:
                 room = min(room, shapely.distance(seg, others) - need_self + 1e-6)
             if room >= 0:
-                return q_k - turn
+                return q_k - float(turn)
             if room > best:
                 best, best_turn = room, turn
         # wedged in: take the roomiest direction if the link is at most a little deep
         if best_turn is not None and best > -0.5 * r:
-            return q_k - best_turn
+            return q_k - float(best_turn)
         return None
 
-    def _levers(self, k: int):
+    def _levers(self, k: int) -> Iterator[tuple[float, float]]:
         """Depth and lever about joint ``k`` of each contact that can stop it."""
         d, lg = self.d, self.link_of_geom
         anchor = d.xanchor[k, :2]

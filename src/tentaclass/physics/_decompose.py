@@ -80,11 +80,11 @@ def convex_pieces(outline: ArrayLike) -> list[FloatArray]:
     for k, tri in enumerate(tris):
         ring = shapely.get_coordinates(tri.exterior)[:3]
         ids = []
-        for v in map(tuple, ring):
-            if v not in index:  # the triangulation added a vertex: keep it
-                index[v] = len(pts)
-                pts.append(v)
-            ids.append(index[v])
+        for vertex in map(tuple, ring):
+            if vertex not in index:  # the triangulation added a vertex: keep it
+                index[vertex] = len(pts)
+                pts.append(vertex)
+            ids.append(index[vertex])
         a = np.asarray([pts[i] for i in ids])
         if _cross(a[0], a[1], a[2]) < 0:
             ids = ids[::-1]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -12,6 +13,9 @@ from ..errors import InputError
 from ..manipulator import PlanarChain
 from ._decompose import convex_pieces
 
+if TYPE_CHECKING:
+    import mujoco
+
 __all__ = ["ChainModel", "build_model", "chain_mjcf"]
 
 #: Inertia given to a link whose inertia about its centre of mass is 0
@@ -19,7 +23,7 @@ __all__ = ["ChainModel", "build_model", "chain_mjcf"]
 _MIN_INERTIA = 1e-12
 
 
-def _mujoco():
+def _mujoco() -> Any:
     try:
         import mujoco
     except ImportError as exc:  # pragma: no cover - depends on the installation
@@ -57,11 +61,11 @@ class ChainModel:
         The object's convex pieces in the plane.
     """
 
-    model: object
+    model: mujoco.MjModel
     link_geoms: np.ndarray
     object_geoms: np.ndarray
     lock_ids: np.ndarray
-    pieces: list
+    pieces: list[FloatArray]
 
 
 def chain_mjcf(
@@ -158,13 +162,13 @@ def chain_mjcf(
         f'  <default><geom friction="{_f(friction)} 0.005 0.0001" condim="{3 if friction else 1}"'
         f' solref="{_f(2 * timestep)} 1" solimp="0.99 0.999 0.001"/></default>',
     ]
+    object_pieces: list[FloatArray] = []
     if outline is not None:
-        if pieces is None:
-            pieces = convex_pieces(outline)
-        scale = float(np.ptp(np.concatenate(pieces), axis=0).max())
+        object_pieces = convex_pieces(outline) if pieces is None else pieces
+        scale = float(np.ptp(np.concatenate(object_pieces), axis=0).max())
         h = 0.5 * scale + thickness
         out.append("  <asset>")
-        for k, pc in enumerate(pieces):
+        for k, pc in enumerate(object_pieces):
             top = np.c_[pc, np.full(len(pc), h)]
             bottom = np.c_[pc, np.full(len(pc), -h)]
             out.append(f'    <mesh name="piece{k}" vertex="{_vec(np.r_[top, bottom])}"/>')
@@ -172,7 +176,7 @@ def chain_mjcf(
     out.append("  <worldbody>")
     if outline is not None:
         out.append('    <body name="object">')
-        for k in range(len(pieces)):
+        for k in range(len(object_pieces)):
             out.append(
                 f'      <geom name="object{k}" type="mesh" mesh="piece{k}" contype="1"'
                 ' conaffinity="1" group="1"/>'
@@ -219,7 +223,7 @@ def chain_mjcf(
     return "\n".join(out)
 
 
-def build_model(chain: PlanarChain, outline: ArrayLike | None = None, **kwargs) -> ChainModel:
+def build_model(chain: PlanarChain, outline: ArrayLike | None = None, **kwargs: Any) -> ChainModel:
     """Compile the MuJoCo model of a chain and an optional object.
 
     Parameters

@@ -6,19 +6,24 @@ return their artists, and never call ``plt.show()``.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._typing import ArrayLike
 from ..shapes import as_outline
 from ..wrapping import Wrap
-from .wrapping import _axes, plot_wrap
+from ._axes import axes_or_new
+from .wrapping import plot_wrap
+
+if TYPE_CHECKING:
+    from matplotlib.animation import FuncAnimation
+    from matplotlib.axes import Axes
 
 __all__ = ["animate_grasp", "plot_grasp"]
 
 
-def _link_width(ax, thickness: float) -> float:
+def _link_width(ax: Axes, thickness: float) -> float:
     """Line width in points that draws a link ``thickness`` wide in data units."""
     fig = ax.figure
     fig.canvas.draw_idle()
@@ -27,7 +32,9 @@ def _link_width(ax, thickness: float) -> float:
     return max(0.5, thickness / abs(x1 - x0) * width_in * 72)
 
 
-def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str, Any]:
+def plot_grasp(
+    g: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any
+) -> dict[str, Any]:
     """Draw the object and the chain at rest, with its contact points (on :func:`plot_wrap`).
 
     Parameters
@@ -57,7 +64,7 @@ def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str,
     >>> art["links"].get_xydata().shape
     (10, 2)
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     p = as_outline(outline)
     j = np.asarray(g.joints)
     lo, hi = np.minimum(p.min(0), j.min(0)), np.maximum(p.max(0), j.max(0))
@@ -79,7 +86,9 @@ def plot_grasp(g: Wrap, outline: ArrayLike, ax=None, **kwargs: Any) -> dict[str,
     return art
 
 
-def animate_grasp(g: Wrap, outline: ArrayLike, ax=None, interval: int = 40, **kwargs: Any):
+def animate_grasp(
+    g: Wrap, outline: ArrayLike, ax: Axes | None = None, interval: int = 40, **kwargs: Any
+) -> FuncAnimation:
     """An animation of the chain closing on the object (``g.frames``).
 
     Parameters
@@ -117,19 +126,16 @@ def animate_grasp(g: Wrap, outline: ArrayLike, ax=None, interval: int = 40, **kw
     True
     """
     from matplotlib.animation import FuncAnimation
+    from matplotlib.figure import SubFigure
 
     from ..errors import InputError
 
     frames = np.asarray(getattr(g, "frames", np.zeros((0,))))
     if frames.ndim != 3 or len(frames) == 0:
         raise InputError("the grasp has no frames: run grasp(..., frames=k) with k > 0")
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        _, ax = plt.subplots()
+    ax = axes_or_new(ax)
     art = plot_grasp(g, outline, ax=ax, **kwargs)
     j_all = frames.reshape(-1, 2)
-    ax = art["links"].axes
     lo, hi = np.minimum(j_all.min(0), ax.get_xlim()[0]), j_all.max(0)
     p = as_outline(outline)
     lo, hi = np.minimum(lo, p.min(0)), np.maximum(hi, p.max(0))
@@ -138,11 +144,14 @@ def animate_grasp(g: Wrap, outline: ArrayLike, ax=None, interval: int = 40, **kw
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     art["contacts"].set_visible(False)
 
-    def update(i):
+    def update(i: int) -> tuple[Any, Any, Any]:
         f = frames[i]
         art["links"].set_data(f[:, 0], f[:, 1])
         art["joints"].set_offsets(f)
         art["contacts"].set_visible(i == len(frames) - 1)
         return art["links"], art["joints"], art["contacts"]
 
-    return FuncAnimation(ax.figure, update, frames=len(frames), interval=interval, blit=False)
+    fig = ax.figure
+    if isinstance(fig, SubFigure):  # the animation redraws and saves the whole figure
+        fig = fig.figure
+    return FuncAnimation(fig, update, frames=len(frames), interval=interval, blit=False)

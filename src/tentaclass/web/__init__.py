@@ -5,6 +5,8 @@
 page, needs only the library.
 """
 
+from typing import TYPE_CHECKING, Any
+
 from ._recognizer import (
     MIN_EXAMPLES,
     N_LINKS,
@@ -14,6 +16,9 @@ from ._recognizer import (
     build_model,
     outline_angles,
 )
+
+if TYPE_CHECKING:
+    from ._app import create_app
 
 __all__ = [
     "MIN_EXAMPLES",
@@ -27,7 +32,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> Any:
     if name == "create_app":
         try:
             from ._app import create_app

@@ -7,7 +7,7 @@ import logging
 import re
 from importlib import resources
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
 import numpy as np
 from fastapi import FastAPI, File, Request, UploadFile
@@ -28,6 +28,9 @@ from ._recognizer import (
     Recognizer,
     UnknownShapeError,
 )
+
+if TYPE_CHECKING:  # FastAPI's ASGI types, from the framework it is built on
+    from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 __all__ = ["MAX_POINTS", "MAX_UPLOAD_BYTES", "create_app"]
 
@@ -69,6 +72,8 @@ class ShapeIn(BaseModel):
     def to_outline(self) -> np.ndarray:
         if self.stroke is not None:
             return from_stroke(self.stroke, OUTLINE_POINTS)
+        if self.outline is None:  # not reached: the model's validator asks for one of the two
+            raise InputError("give either 'stroke' or 'outline'")
         return as_outline(self.outline, "outline")
 
 
@@ -199,18 +204,19 @@ class _BodyLimit:
     The body is read here (at most ``limit`` bytes are held) and handed on in one piece.
     """
 
-    def __init__(self, app, limit: int):
+    def __init__(self, app: ASGIApp, limit: int) -> None:
         self.app = app
         self.limit = limit
 
-    async def __call__(self, scope, receive, send):
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
         too_large = _error(413, f"request body larger than {self.limit // 2**20} MB")
         size = dict(scope.get("headers", ())).get(b"content-length", b"")
         if size.isdigit() and int(size) > self.limit:
             return await too_large(scope, receive, send)
-        chunks, seen = [], 0
+        chunks: list[bytes] = []
+        seen = 0
         while True:
             msg = await receive()
             if msg["type"] != "http.request":  # the client went away
@@ -224,7 +230,7 @@ class _BodyLimit:
         body = b"".join(chunks)
         sent = False
 
-        async def replay():
+        async def replay() -> Message:
             nonlocal sent
             if not sent:
                 sent = True
@@ -293,7 +299,7 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
     app.add_middleware(_BodyLimit, limit=MAX_BODY_BYTES)
 
     @app.exception_handler(RequestValidationError)
-    async def _invalid(request: Request, exc: RequestValidationError):
+    async def _invalid(request: Request, exc: RequestValidationError) -> JSONResponse:
         parts = []
         for e in exc.errors()[:3]:
             where = ".".join(str(x) for x in e.get("loc", ()) if x not in ("body",))
@@ -309,7 +315,7 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
         )
 
     @app.exception_handler(InputError)
-    async def _bad_input(request: Request, exc: InputError):
+    async def _bad_input(request: Request, exc: InputError) -> JSONResponse:
         status = 400
         if isinstance(exc, NameTakenError):
             status = 409
@@ -320,11 +326,11 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
         return _error(status, str(exc).splitlines()[0] if str(exc) else "bad input")
 
     @app.exception_handler(ValueError)
-    async def _bad_value(request: Request, exc: ValueError):
+    async def _bad_value(request: Request, exc: ValueError) -> JSONResponse:
         return _error(400, str(exc).splitlines()[0] if str(exc) else "bad input")
 
     @app.exception_handler(Exception)
-    async def _unexpected(request: Request, exc: Exception):
+    async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
         log.exception("unexpected error on %s", request.url.path)
         return _error(500, f"internal error ({type(exc).__name__}); the server keeps running")
 

@@ -154,7 +154,7 @@ class Recognizer:
 
     def _load_taught(self) -> None:
         path = self.taught_file
-        if not path.exists():
+        if path is None or not path.exists():
             return
         try:
             data = json.loads(path.read_text())
@@ -165,12 +165,13 @@ class Recognizer:
             raise InputError(f"cannot read taught shapes from {path}: {exc}") from exc
 
     def _save(self) -> None:
-        if self.data_dir is None:
+        taught_file, model_file = self.taught_file, self.model_file
+        if taught_file is None or model_file is None:  # no data directory: kept in memory
             return
-        tmp = self.taught_file.with_suffix(".tmp")
+        tmp = taught_file.with_suffix(".tmp")
         tmp.write_text(json.dumps({"format": "tentaclass-taught-shapes", "shapes": self._taught}))
-        tmp.replace(self.taught_file)
-        save_model(self.model_, self.model_file)
+        tmp.replace(taught_file)
+        save_model(self.model_, model_file)
 
     def _fit(self) -> None:
         X = [self._base_X, *self._taught_X.values()]

@@ -228,9 +228,13 @@ def link_length_for_laps(
             f"laps: {n} links cannot close {laps:g} laps (at most {n / 2:g}: 2 links per lap)"
         )
     offset = check_positive_float(offset, "offset", allow_zero=True)
-    args = {"start": start, "direction": direction, "mode": mode}
-    ln = closing_link_length(outline, max(2, round(n / laps)), **args)[0]
+
+    def closing(links_per_lap: float) -> float:
+        n_lap = max(2, round(links_per_lap))
+        return closing_link_length(outline, n_lap, start=start, direction=direction, mode=mode)[0]
+
+    ln = closing(n / laps)
     if offset > 0:
         wrapping = n - int(np.ceil(offset / ln))
-        ln = closing_link_length(outline, max(2, round(wrapping / laps)), **args)[0]
+        ln = closing(wrapping / laps)
     return ln
