@@ -16,10 +16,11 @@ from scipy.special import logsumexp
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_is_fitted, validate_data
 
+from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 
 
-class BaseProbabilisticClassifier(ClassifierMixin, BaseEstimator):
+class BaseProbabilisticClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     """Base class: predictions from per-class log scores."""
 
     @abstractmethod

@@ -19,6 +19,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .._dask import blockwise
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_angle_array, check_positive_float, check_positive_int
 from ..errors import InputError
@@ -152,6 +153,7 @@ def _features_fft(
         out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_coeffs + 1])
 
 
+@blockwise
 def fourier_features(
     q: ArrayLike,
     n_coeffs: int | None = None,

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._dask import blockwise
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validation import as_angle_array, check_positive_int
 from ..geometry import angles_to_points, points_to_angles, resample_closed
@@ -46,6 +47,7 @@ def _closure(points: FloatArray, t: FloatArray) -> tuple[int, float] | None:
     return m, float(u[m])
 
 
+@blockwise
 def last_lap(
     q: ArrayLike, n_out: int | None = None, link_lengths: ArrayLike = 1.0
 ) -> tuple[FloatArray, BoolArray]:
