@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import itertools
 import math
 import os
 import re
@@ -42,8 +43,8 @@ __all__ = [
     "DaskMixin",
     "SchedulerError",
     "atomic_output",
-    "blockwise",
     "block_seeds",
+    "blockwise",
     "is_dask_collection",
     "map_files",
     "scheduler",
@@ -91,9 +92,7 @@ class _Blocks:
 
     def __call__(self, block: np.ndarray):
         if block.size == 0:
-            out = tuple(
-                np.empty(block.shape[:-1] + m.shape[1:], m.dtype) for m in self.metas
-            )
+            out = tuple(np.empty(block.shape[:-1] + m.shape[1:], m.dtype) for m in self.metas)
         else:
             out = self.func(block)
         return out[0] if self.single and isinstance(out, tuple) else out
@@ -221,7 +220,9 @@ class DaskMixin:
 # -- seeds ---------------------------------------------------------------------------------------
 
 
-def block_seeds(seed: int | np.random.Generator | None, n_blocks: int) -> list[np.random.SeedSequence]:
+def block_seeds(
+    seed: int | np.random.Generator | None, n_blocks: int
+) -> list[np.random.SeedSequence]:
     """One independent seed per block, from one seed: the same whoever runs the blocks.
 
     Parameters
@@ -325,11 +326,11 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
         cut = [
             p.rechunk((chunks,)).to_delayed().ravel().tolist()
             if is_dask_collection(p)
-            else [np.broadcast_to(p, (size,))[a:b] for a, b in zip(bounds, bounds[1:], strict=False)]
+            else [np.broadcast_to(p, (size,))[a:b] for a, b in itertools.pairwise(bounds)]
             for p in params
         ]
         blocks = []
-        for i, (a, b) in enumerate(zip(bounds[:-1], bounds[1:], strict=True)):
+        for i, (a, b) in enumerate(itertools.pairwise(bounds)):
             rows = list(outlines[a:b]) if many else outlines
             blocks.append((rows, [c[i] for c in cut], b - a))
     seeds = block_seeds(seed, len(blocks)) if kwargs.get("noise", 0) > 0 else [None] * len(blocks)
@@ -339,13 +340,55 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
         res = run(wrap_many, rows, n, kwargs, s, *ps)
         for k, (core, dt) in _WRAP_FIELDS.items():
             shape = (np.nan if count is None else count, *core(n))
-            fields[k].append(da.from_delayed(res[k], shape=shape, dtype=dt, meta=np.empty((0,) * len(shape), dt)))
+            fields[k].append(
+                da.from_delayed(res[k], shape=shape, dtype=dt, meta=np.empty((0,) * len(shape), dt))
+            )
     from .wrapping import WrapBatch
 
     batch = WrapBatch(**{k: da.concatenate(v, axis=0) for k, v in fields.items()})
     object.__setattr__(batch, "_link_length", link_length)
     object.__setattr__(batch, "_direction", kwargs.get("direction", "ccw"))
     return batch
+
+
+def split_rows(func: Callable, *args: Any, client: Any = None, **kwargs: Any) -> Any:
+    """``func(*args, **kwargs)`` run on slices of rows on ``client``, outputs joined.
+
+    The row count is ``len(args[0])``; every positional argument of that length
+    (list or array) is sliced, the others are passed whole. ``func`` must act
+    on each row independently and return an array or a tuple of arrays with
+    rows first: then the result is identical with or without a client and for
+    any number of workers. Without a client ``func`` runs once, here.
+    """
+    if client is None:
+        return func(*args, **kwargs)
+    n = len(args[0])
+    n_workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
+    step = max(1, math.ceil(n / (4 * n_workers)))
+
+    def rowwise(a: Any) -> bool:
+        if isinstance(a, np.ndarray):
+            return a.ndim > 0 and len(a) == n
+        return isinstance(a, list) and len(a) == n
+
+    calls = [[a[i : i + step] if rowwise(a) else a for a in args] for i in range(0, n, step)]
+    futures = [client.submit(func, *c, pure=False, **kwargs) for c in calls]
+    parts = client.gather(futures)
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(p) for p in zip(*parts, strict=True))
+    return np.concatenate(parts)
+
+
+@contextlib.contextmanager
+def on_client(client: Any) -> Iterator[Any]:
+    """``client`` as the default Dask client and the joblib backend (no-op for None)."""
+    if client is None:
+        yield None
+        return
+    import joblib
+
+    with client.as_current(), joblib.parallel_config(backend="dask"):
+        yield client
 
 
 # -- clients -------------------------------------------------------------------------------------
@@ -363,7 +406,7 @@ def _check_address(address: str) -> str:
 def scheduler(
     address: str | None,
     *,
-    timeout: float = CONNECT_TIMEOUT,
+    timeout: float | None = None,
     n_workers: int | None = None,
     echo: Callable[[str], None] | None = None,
 ) -> Iterator[Any]:
@@ -376,8 +419,9 @@ def scheduler(
         ``"local"``: start a ``LocalCluster`` of worker processes, one per core
         (``n_workers``), one thread each. Otherwise the address of a running
         scheduler, e.g. ``tcp://host:8786``.
-    timeout : float, default=10
-        Seconds to wait for the scheduler to answer.
+    timeout : float, optional
+        Seconds to wait for the scheduler to answer; default
+        :data:`CONNECT_TIMEOUT`.
     n_workers : int, optional
         Workers of a local cluster; default the number of cores.
     echo : callable, optional
@@ -396,7 +440,9 @@ def scheduler(
         yield None
         return
     _check_address(address)
-    import joblib
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
+    import logging
+
     from dask.distributed import Client, LocalCluster
 
     cluster = None
@@ -407,6 +453,7 @@ def scheduler(
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=":0",
+                silence_logs=logging.ERROR,
             )
             client = Client(cluster)
         else:
@@ -421,8 +468,9 @@ def scheduler(
     try:
         if echo is not None:
             n = len(client.scheduler_info(n_workers=-1).get("workers", {}))
-            echo(f"dask: {n} workers at {client.scheduler.address}, dashboard {client.dashboard_link}")
-        with client.as_current(), joblib.parallel_config(backend="dask"):
+            where = client.scheduler.address
+            echo(f"dask: {n} workers at {where}, dashboard {client.dashboard_link}")
+        with on_client(client):
             yield client
     finally:
         client.close()

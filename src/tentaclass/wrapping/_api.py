@@ -199,8 +199,8 @@ def wrap_many(
     noise = check_positive_float(noise, "noise", allow_zero=True)
     thickness = check_positive_float(thickness, "thickness", allow_zero=True)
     if _dask.wants_blocks(outlines, link_length, starts, offset):  # lazy, chunk by chunk
-        return _dask.wrap_blocks(wrap_many, outlines, n, link_length, starts, offset, seed,
-                                 direction=direction, mode=mode, noise=noise, thickness=thickness)
+        kw = {"direction": direction, "mode": mode, "noise": noise, "thickness": thickness}
+        return _dask.wrap_blocks(wrap_many, outlines, n, link_length, starts, offset, seed, **kw)
     single = _is_single(outlines)
     if single:
         shapes = [as_outline(outlines)]
