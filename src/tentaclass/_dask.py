@@ -540,7 +540,7 @@ def map_files(
     try:
         if progress:
             with contextlib.redirect_stdout(sys.stderr):
-                dask_progress(futures)
+                dask_progress(futures, scheduler=client.scheduler.address)
                 print(file=sys.stderr)
         return client.gather(futures)
     except KilledWorker as exc:
