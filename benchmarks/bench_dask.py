@@ -70,8 +70,9 @@ def make_parquet(folder: Path, n_arrays: int, n_files: int) -> list[Path]:
         paths.append(path)
         if path.exists() and pq.ParquetFile(path).metadata.num_rows == per:
             continue
-        with pq.ParquetWriter(path, pa.schema([(f"q{j}", pa.float64()) for j in range(N_JOINTS)])
-                              ) as w:  # fmt: skip
+        with pq.ParquetWriter(
+            path, pa.schema([(f"q{j}", pa.float64()) for j in range(N_JOINTS)])
+        ) as w:
             for lo in range(0, per, 65536):
                 m = min(65536, per - lo)
                 A = X[rng.integers(0, len(X), m)] + rng.normal(0.0, 0.03, (m, N_JOINTS))
@@ -173,22 +174,36 @@ def main() -> None:
 
     def scan(client, out):
         shutil.rmtree(out, ignore_errors=True)
-        done = scan_files(str(args.workdir / "belts" / "*.pbm"), out, client, None,
-                          {"fmt": None, "width": None, "chunk_rows": 1024, "scanner": {}})  # fmt: skip
+        done = scan_files(
+            str(args.workdir / "belts" / "*.pbm"),
+            out,
+            client,
+            None,
+            {"fmt": None, "width": None, "chunk_rows": 1024, "scanner": {}},
+        )
         return sum(s["rows"] for s in done), sum(s["objects"] for s in done)
 
     clusters = {}
     for k in (1, 2):
-        cluster = LocalCluster(n_workers=k, threads_per_worker=1, processes=True,
-                               dashboard_address=":0", silence_logs=logging.ERROR)  # fmt: skip
+        cluster = LocalCluster(
+            n_workers=k,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+            silence_logs=logging.ERROR,
+        )
         client = Client(cluster)
         client.run(lambda: __import__("tentaclass.cli.main"))
         clusters[k] = (cluster, client)
         # compile the wrap kernel and load everything once on every worker
-        tc.wrap_many(outline, 64, link, starts=da.from_array(starts[: 200 * k], chunks=200)
-                     ).angles.compute()  # fmt: skip
-        client.compute(tc.wrap_many(outline, 64, link, starts=da.from_array(starts[: 200 * k],
-                       chunks=200)).angles).result()  # fmt: skip
+        tc.wrap_many(
+            outline, 64, link, starts=da.from_array(starts[: 200 * k], chunks=200)
+        ).angles.compute()
+        client.compute(
+            tc.wrap_many(
+                outline, 64, link, starts=da.from_array(starts[: 200 * k], chunks=200)
+            ).angles
+        ).result()
     times: dict[tuple[str, int], float] = {}
     rss: dict[tuple[str, int], tuple[int, int]] = {}
     counts = {}
@@ -202,8 +217,9 @@ def main() -> None:
                 ("scan --files", lambda c=client, k=k: scan(c, args.workdir / f"s{k}")),
             ]
             for job, run in jobs:
-                if rep >= (args.big_repeat if "--files" in job[:9] or "predict" in job
-                           else args.repeat):  # fmt: skip
+                if rep >= (
+                    args.big_repeat if "--files" in job[:9] or "predict" in job else args.repeat
+                ):
                     continue
                 mon = RssMonitor(client) if job != "wraps" else None
                 t = time.perf_counter()
@@ -216,40 +232,67 @@ def main() -> None:
                 times[job, k] = min(times.get((job, k), np.inf), dt)
                 if mon is not None:
                     old = rss.get((job, k), (0, 0, 0, 0))
-                    rss[job, k] = (max(old[0], mon.peak_one), max(old[1], mon.peak_sum),
-                                   max(old[2], mon.peak_uss), mon.idle)  # fmt: skip
+                    rss[job, k] = (
+                        max(old[0], mon.peak_one),
+                        max(old[1], mon.peak_sum),
+                        max(old[2], mon.peak_uss),
+                        mon.idle,
+                    )
                 print(f"{job:<18} {k} worker(s): {dt:7.2f} s", flush=True)
     for cluster, client in clusters.values():
         client.close()
         cluster.close()
     load_after = os.getloadavg()
-    units = {"wraps": ("wraps/s", args.wraps), "classify --files": ("arrays/s", cli_arrays),
-             "predict (library)": ("arrays/s", args.arrays),
-             "scan --files": ("belt rows/s", counts["scan --files"][0])}  # fmt: skip
+    units = {
+        "wraps": ("wraps/s", args.wraps),
+        "classify --files": ("arrays/s", cli_arrays),
+        "predict (library)": ("arrays/s", args.arrays),
+        "scan --files": ("belt rows/s", counts["scan --files"][0]),
+    }
     rows = []
     for job, (unit, n) in units.items():
         r1, r2 = n / times[job, 1], n / times[job, 2]
         mem = rss.get((job, 2))
-        rows.append({"job": job, "unit": unit, "n": n, "rate_1": r1, "rate_2": r2,
-                     "ratio": r2 / r1, "seconds_1": times[job, 1], "seconds_2": times[job, 2],
-                     "peak_rss_worker_MiB": None if mem is None else mem[0] / 2**20,
-                     "peak_rss_all_workers_MiB": None if mem is None else mem[1] / 2**20,
-                     "peak_uss_all_workers_MiB": None if mem is None else mem[2] / 2**20,
-                     "idle_rss_all_workers_MiB": None if mem is None else mem[3] / 2**20})  # fmt: skip
+        rows.append(
+            {
+                "job": job,
+                "unit": unit,
+                "n": n,
+                "rate_1": r1,
+                "rate_2": r2,
+                "ratio": r2 / r1,
+                "seconds_1": times[job, 1],
+                "seconds_2": times[job, 2],
+                "peak_rss_worker_MiB": None if mem is None else mem[0] / 2**20,
+                "peak_rss_all_workers_MiB": None if mem is None else mem[1] / 2**20,
+                "peak_uss_all_workers_MiB": None if mem is None else mem[2] / 2**20,
+                "idle_rss_all_workers_MiB": None if mem is None else mem[3] / 2**20,
+            }
+        )
     print(f"\nload average before {load_before}, after {load_after}, cores {os.cpu_count()}")
     print(f"check counts: {counts}")
-    print("\n| job | size | 1 worker | 2 workers | ratio | 2 workers: peak RSS one / all "
-          "(idle all), peak USS all |")  # fmt: skip
+    print(
+        "\n| job | size | 1 worker | 2 workers | ratio | 2 workers: peak RSS one / all "
+        "(idle all), peak USS all |"
+    )
     print("|---|---|---|---|---|---|")
     for r in rows:
-        mem = ("-" if r["peak_rss_worker_MiB"] is None
-               else f"{r['peak_rss_worker_MiB']:.0f} / {r['peak_rss_all_workers_MiB']:.0f} "
-               f"({r['idle_rss_all_workers_MiB']:.0f}), {r['peak_uss_all_workers_MiB']:.0f} MiB")  # fmt: skip
-        print(f"| {r['job']} | {r['n']:,} | {r['rate_1']:,.0f} {r['unit']} | "
-              f"{r['rate_2']:,.0f} {r['unit']} | {r['ratio']:.2f}x | {mem} |")  # fmt: skip
+        mem = (
+            "-"
+            if r["peak_rss_worker_MiB"] is None
+            else f"{r['peak_rss_worker_MiB']:.0f} / {r['peak_rss_all_workers_MiB']:.0f} "
+            f"({r['idle_rss_all_workers_MiB']:.0f}), {r['peak_uss_all_workers_MiB']:.0f} MiB"
+        )
+        print(
+            f"| {r['job']} | {r['n']:,} | {r['rate_1']:,.0f} {r['unit']} | "
+            f"{r['rate_2']:,.0f} {r['unit']} | {r['ratio']:.2f}x | {mem} |"
+        )
     if args.json is not None:
-        args.json.write_text(json.dumps({"rows": rows, "load_before": load_before,
-                                         "load_after": load_after}, indent=1))  # fmt: skip
+        args.json.write_text(
+            json.dumps(
+                {"rows": rows, "load_before": load_before, "load_after": load_after}, indent=1
+            )
+        )
 
 
 if __name__ == "__main__":
