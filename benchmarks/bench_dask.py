@@ -89,12 +89,13 @@ def make_belts(folder: Path, n_belts: int, objects: int) -> None:
 
 
 class RssMonitor:
-    """Peak resident memory of the worker processes, sampled every 50 ms."""
+    """Peak resident memory of the worker processes (sampled every 50 ms), and their CPU time."""
 
     def __init__(self, client: Client):
         self.procs = [psutil.Process(p) for p in client.run(os.getpid).values()]
         self.peak_one = self.peak_sum = self.peak_uss = 0
         self.idle = sum(p.memory_info().rss for p in self.procs)
+        self.cpu = 0.0
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
 
@@ -117,13 +118,18 @@ class RssMonitor:
             tick += 1
             time.sleep(0.05)
 
+    def _cpu(self) -> float:
+        return sum(sum(p.cpu_times()[:2]) for p in self.procs)
+
     def __enter__(self) -> RssMonitor:
+        self.cpu = -self._cpu()
         self._thread.start()
         return self
 
     def __exit__(self, *exc) -> None:
         self._stop.set()
         self._thread.join()
+        self.cpu += self._cpu()
 
 
 def main() -> None:
@@ -206,6 +212,7 @@ def main() -> None:
         ).result()
     times: dict[tuple[str, int], float] = {}
     rss: dict[tuple[str, int], tuple[int, int]] = {}
+    cpu: dict[tuple[str, int], float] = {}
     counts = {}
     for rep in range(max(args.repeat, args.big_repeat)):
         for k in (1, 2):
@@ -217,20 +224,17 @@ def main() -> None:
                 ("scan --files", lambda c=client, k=k: scan(c, args.workdir / f"s{k}")),
             ]
             for job, run in jobs:
-                if rep >= (
-                    args.big_repeat if "--files" in job[:9] or "predict" in job else args.repeat
-                ):
+                big = job in ("classify --files", "predict (library)")
+                if rep >= (args.big_repeat if big else args.repeat):
                     continue
-                mon = RssMonitor(client) if job != "wraps" else None
+                mon = RssMonitor(client)
                 t = time.perf_counter()
-                if mon is not None:
-                    with mon:
-                        counts[job] = run()
-                else:
+                with mon:
                     counts[job] = run()
                 dt = time.perf_counter() - t
-                times[job, k] = min(times.get((job, k), np.inf), dt)
-                if mon is not None:
+                if dt < times.get((job, k), np.inf):
+                    times[job, k], cpu[job, k] = dt, mon.cpu
+                if job != "wraps":
                     old = rss.get((job, k), (0, 0, 0, 0))
                     rss[job, k] = (
                         max(old[0], mon.peak_one),
@@ -238,7 +242,9 @@ def main() -> None:
                         max(old[2], mon.peak_uss),
                         mon.idle,
                     )
-                print(f"{job:<18} {k} worker(s): {dt:7.2f} s", flush=True)
+                print(
+                    f"{job:<18} {k} worker(s): {dt:7.2f} s, worker CPU {mon.cpu:7.2f} s", flush=True
+                )
     for cluster, client in clusters.values():
         client.close()
         cluster.close()
@@ -263,6 +269,10 @@ def main() -> None:
                 "ratio": r2 / r1,
                 "seconds_1": times[job, 1],
                 "seconds_2": times[job, 2],
+                "worker_cpu_seconds_1": cpu[job, 1],
+                "worker_cpu_seconds_2": cpu[job, 2],
+                "rate_per_cpu_second": n / cpu[job, 1],
+                "cpu_share_2": cpu[job, 2] / (2 * times[job, 2]),
                 "peak_rss_worker_MiB": None if mem is None else mem[0] / 2**20,
                 "peak_rss_all_workers_MiB": None if mem is None else mem[1] / 2**20,
                 "peak_uss_all_workers_MiB": None if mem is None else mem[2] / 2**20,
@@ -272,10 +282,10 @@ def main() -> None:
     print(f"\nload average before {load_before}, after {load_after}, cores {os.cpu_count()}")
     print(f"check counts: {counts}")
     print(
-        "\n| job | size | 1 worker | 2 workers | ratio | 2 workers: peak RSS one / all "
-        "(idle all), peak USS all |"
+        "\n| job | size | 1 worker | 2 workers | ratio | worker CPU s, 1 / 2 | CPU share, 2 "
+        "| per CPU-second | 2 workers: peak RSS one / all (idle all), peak USS all |"
     )
-    print("|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         mem = (
             "-"
@@ -285,7 +295,9 @@ def main() -> None:
         )
         print(
             f"| {r['job']} | {r['n']:,} | {r['rate_1']:,.0f} {r['unit']} | "
-            f"{r['rate_2']:,.0f} {r['unit']} | {r['ratio']:.2f}x | {mem} |"
+            f"{r['rate_2']:,.0f} {r['unit']} | {r['ratio']:.2f}x | "
+            f"{r['worker_cpu_seconds_1']:.1f} / {r['worker_cpu_seconds_2']:.1f} | "
+            f"{r['cpu_share_2']:.0%} | {r['rate_per_cpu_second']:,.0f} | {mem} |"
         )
     if args.json is not None:
         args.json.write_text(

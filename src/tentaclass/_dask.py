@@ -310,11 +310,10 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
         blocks = [(part, params, None) for part in parts]
     else:
         arrays = [p for p in params if is_dask_collection(p)]
-        chunks = arrays[0].chunks[0] if arrays[0].ndim == 1 else None
         for p in arrays:
             if p.ndim != 1:
                 raise InputError(f"a dask parameter array must be 1-D, got shape {p.shape}")
-        size = arrays[0].shape[0]
+        chunks, size = arrays[0].chunks[0], arrays[0].shape[0]
         many = not (isinstance(outlines, np.ndarray) and outlines.ndim == 2) and not (
             isinstance(outlines, Sequence) and len(outlines) > 0 and np.ndim(outlines[0]) == 1
         )
