@@ -187,6 +187,12 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
     """
     if out_dir is None:
         raise ValueError("--files needs --out-dir, the folder for the per-file results")
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise ValueError(
+            "classify --files writes with pyarrow: pip install 'tentaclass[dask]'"
+        ) from None
     inputs = expand(pattern, ANGLE_SUFFIXES)
     if n_joints is not None:
         for path in inputs:
