@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	@echo "Installing tentaclass and its dependencies into $(VENV) (first run only; takes a few minutes)"
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test,web,physics,outline]'
+	$(BIN)/python -m pip install --quiet -e '.[test,web,physics,outline,dask]'
 	touch $(STAMP)
 
 demo: $(STAMP)

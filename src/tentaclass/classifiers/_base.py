@@ -16,11 +16,12 @@ from scipy.special import logsumexp
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.validation import check_is_fitted
 
+from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_X
 
 
-class BaseProbabilisticClassifier(ClassifierMixin, BaseEstimator):
+class BaseProbabilisticClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     """Base class: predictions from per-class log scores."""
 
     @abstractmethod

@@ -13,12 +13,13 @@ from sklearn.neural_network import MLPClassifier
 from sklearn.pipeline import Pipeline
 from sklearn.preprocessing import StandardScaler
 
+from .._dask import DaskMixin
 from .._typing import ArrayLike
 
 __all__ = ["FixedEpochsMLPClassifier", "modern_mlp", "thesis_mlp"]
 
 
-class FixedEpochsMLPClassifier(MLPClassifier):
+class FixedEpochsMLPClassifier(DaskMixin, MLPClassifier):
     """An :class:`~sklearn.neural_network.MLPClassifier` trained for a fixed budget.
 
     Same parameters and behaviour as ``MLPClassifier``. The only difference:

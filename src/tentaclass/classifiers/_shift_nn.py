@@ -7,6 +7,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted
 
+from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_finite_float, check_frequency_count, check_X, check_X_y
 from ..errors import InputError
@@ -19,7 +20,7 @@ __all__ = ["ShiftNNClassifier"]
 _BLOCK_BYTES = 64 * 2**20
 
 
-class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
+class ShiftNNClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     """1-NN whose distance is minimised over cyclic shifts (and mirror images).
 
     ``d(a, b)^2 = min_s || a - roll(b, s) ||^2`` for periodic signals ``a`` and

@@ -7,6 +7,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin, clone
 from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted, validate_data
 
+from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from ..features import FourierFeatures
 from ._pnn import PNNClassifier
@@ -14,7 +15,7 @@ from ._pnn import PNNClassifier
 __all__ = ["TentacleClassifier"]
 
 
-class TentacleClassifier(ClassifierMixin, TransformerMixin, BaseEstimator):
+class TentacleClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstimator):
     """Object class from a tentacle's joint angles.
 
     A pipeline of :class:`~tentaclass.features.FourierFeatures` (``|DFT|`` of the

@@ -8,14 +8,15 @@ import click
 import numpy as np
 
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
-from .options import finite
+from .options import dask_client, finite, scheduler_option
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "thesis,fourier-1nn,fourier-pnn,shift-nn,1nn-euclidean,svc,minirocket"
 
 
 def _load(dataset: str, links: int, mode: str, noise: float, copies: int, samples: int,
-          data_dir: Path | None, seed: int, jobs: int = 1) -> tuple[dict, str]:  # fmt: skip
+          data_dir: Path | None, seed: int, jobs: int = 1,
+          client: object = None) -> tuple[dict, str]:  # fmt: skip
     """Arrays and benchmark keywords for a dataset name, plus a title."""
     from .. import datasets
 
@@ -25,7 +26,8 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
         X = X + rng.normal(0.0, noise, X.shape)
         return {"X": X, "y": y}, f"reference shapes, {links} links, noise {noise:g}"
     if dataset == "synthetic":
-        d = datasets.synthetic_tentacle(samples, n_links=links, noise=noise, seed=seed)
+        d = datasets.synthetic_tentacle(samples, n_links=links, noise=noise, seed=seed,
+                                        client=client)  # fmt: skip
         return {
             "X": d.data,
             "y": d.target,
@@ -33,7 +35,7 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
     if dataset == "mpeg7":
         folder = data_dir or Path("../shared/data/mpeg7-part-b")
         d = datasets.mpeg7_tentacle(folder, links, mode=mode, noise=noise, copies=copies,
-                                    seed=seed, n_jobs=jobs)  # fmt: skip
+                                    seed=seed, n_jobs=jobs, client=client)  # fmt: skip
         keep = ~np.isin(d.groups, d.groups[~d.complete])  # drop shapes a chain jammed on
         kw = {"X": d.data[keep], "y": d.target[keep], "groups": d.groups[keep],
               "is_eval": d.wrap_index[keep] == 0}  # fmt: skip
@@ -65,8 +67,9 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--jobs", type=click.IntRange(min=-1), default=1, show_default=True,
               help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
+@scheduler_option
 def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, seed,
-          jobs):  # fmt: skip
+          jobs, scheduler=None):  # fmt: skip
     """Stratified k-fold accuracy (or the official split), fit and predict time.
 
     Writes a markdown table and the best method's confusion matrix to OUT.
@@ -80,7 +83,10 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
                                  param_hint="--methods")  # fmt: skip
     if jobs == 0:
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
-    kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed, jobs)
+    with dask_client(scheduler) as client:  # generates the wraps on the cluster
+        kw, title = _load(
+            dataset, links, mode, noise, copies, samples, data_dir, seed, jobs, client
+        )
     X = kw.pop("X")
     y = kw.pop("y")
     results = run_benchmark(X, y, names, n_splits=folds, seed=seed, progress=True, **kw)

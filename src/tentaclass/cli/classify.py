@@ -13,7 +13,7 @@ from ..classifiers import TentacleClassifier
 from ..datasets import reference_tentacle
 from ..io import load_model
 from ..report import classification_table, table_to_json
-from .options import AngleList, read_angle_file
+from .options import AngleList, dask_client, files_options, read_angle_file, scheduler_option
 
 
 def default_model(n_links: int) -> TentacleClassifier:
@@ -50,14 +50,19 @@ def model_from_file(path: Path) -> tuple[TentacleClassifier | Pipeline, int]:
     help="Model file (.tcm, from 'tentaclass train') to use instead of the built-in model.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
+@files_options(".labels.parquet for Parquet, .labels.csv otherwise")
+@scheduler_option
 def classify(
-    angles: np.ndarray | None, file: Path | None, model_file: Path | None, as_json: bool
-) -> None:
+    angles: np.ndarray | None, file: Path | None, model_file: Path | None, as_json: bool,
+    files: str | None = None, out_dir: Path | None = None, scheduler: str | None = None,
+) -> None:  # fmt: skip
     """Classify joint-angle arrays: ANGLES such as "0 0 0 pi/2 ..." or --file.
 
     The built-in model knows the thesis's four classes (square, circle,
     triangle, rectangle) for chains of any length; --model uses a trained one.
     """
+    if files is not None or scheduler is not None:
+        return _many(files, out_dir, model_file, scheduler, angles is not None or file is not None)
     if (angles is None) == (file is None):
         raise click.UsageError("give either ANGLES or --file, not both or neither")
     X = read_angle_file(file) if file is not None else angles[None, :]
@@ -79,3 +84,18 @@ def classify(
     click.echo(f"{'index':>5}  {'class':<10} {'probability':>11}")
     for i, lab, p in zip(table["index"], table["label"], table["probability"], strict=True):
         click.echo(f"{i:>5}  {str(lab).upper():<10} {p:>11.3f}")
+
+
+def _many(files, out_dir, model_file, scheduler, single) -> None:
+    """``--files`` (optionally ``--scheduler``): one result file per input file."""
+    if files is None or single:
+        raise click.UsageError(
+            "--files/--scheduler take the place of ANGLES and --file: give --files GLOB"
+        )
+    model, n_joints = model_from_file(model_file) if model_file is not None else (None, None)
+    from ._files import classify_files
+
+    with dask_client(scheduler) as client:
+        done = classify_files(files, out_dir, client, model, n_joints)
+    for src, dst, n in done:
+        click.echo(f"{src}: {n} arrays -> {dst}")

@@ -1,4 +1,4 @@
-"""Parsing shared by the commands: angle lists and angle files.
+"""Parsing and options shared by the commands: angle lists, angle files, ``--scheduler``.
 
 Angles are numbers or simple expressions of pi (``pi/2``, ``2*pi/3``,
 ``-pi/8``, ``2pi``), matched by a regular expression: nothing is evaluated.
@@ -6,8 +6,9 @@ Angles are numbers or simple expressions of pi (``pi/2``, ``2*pi/3``,
 
 from __future__ import annotations
 
+import contextlib
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -140,3 +141,66 @@ def object_options(verb: str) -> Callable[[_Command], _Command]:
         return func
 
     return decorate
+
+
+def scheduler_option(command: Callable) -> Callable:
+    """Click decorator: the ``--scheduler`` option (``local`` or a scheduler address)."""
+    return click.option(
+        "--scheduler",
+        metavar="local|ADDRESS",
+        default=None,
+        help="Run on a Dask cluster: 'local' starts one worker process per core and prints "
+        "its dashboard address; tcp://host:8786 uses a running scheduler. Default: this "
+        "process only.",
+    )(command)
+
+
+def files_options(suffix_help: str) -> Callable:
+    """Click decorator: ``--files GLOB`` and ``--out-dir DIR`` (one output per input file)."""
+
+    def decorate(command: Callable) -> Callable:
+        command = click.option(
+            "--out-dir",
+            type=click.Path(file_okay=False, path_type=Path),
+            default=None,
+            help=f"With --files: folder for the outputs, one per input file ({suffix_help}); "
+            "each appears only once its file is complete.",
+        )(command)
+        return click.option(
+            "--files",
+            "files",
+            metavar="GLOB",
+            default=None,
+            help="Many input files, e.g. 'logs/**/*.parquet' (quote it); see --out-dir.",
+        )(command)
+
+    return decorate
+
+
+@contextlib.contextmanager
+def dask_client(address: str | None) -> Iterator[Any]:
+    """The client for ``--scheduler`` (None without it); the dashboard goes to stderr."""
+    if address is None:
+        yield None
+        return
+    from .._dask import scheduler
+
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise click.ClickException(
+            "--scheduler needs Dask: pip install 'tentaclass[dask]'"
+        ) from None
+    with scheduler(address, echo=lambda line: click.echo(line, err=True)) as client:
+        yield client
+
+
+def predict_on(model: Any, X: np.ndarray, client: Any, block_rows: int = 65536) -> np.ndarray:
+    """``model.predict(X)``, in blocks of rows on the Dask cluster when ``client`` is given."""
+    if client is None:
+        return model.predict(X)
+    import dask.array as da
+
+    n_blocks = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
+    rows = max(1, min(block_rows, -(-X.shape[0] // n_blocks)))
+    return client.compute(model.predict(da.from_array(X, chunks=(rows, -1)))).result()

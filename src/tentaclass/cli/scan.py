@@ -21,6 +21,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
+from .options import files_options, scheduler_option
 
 
 class _CountingReader:
@@ -148,6 +149,8 @@ def _emit(objects: list, stats: Counter, out: list | None) -> None:
     show_default=True,
     help="Where the final summary goes.",
 )
+@files_options(".jsonl: one JSON line per object")
+@scheduler_option
 def scan(
     file: str | None,
     fmt: str | None,
@@ -163,6 +166,9 @@ def scan(
     write_belt: Path | None,
     chunk_rows: int,
     summary: str,
+    files: str | None = None,
+    out_dir: Path | None = None,
+    scheduler: str | None = None,
 ) -> None:
     """Classify and inspect objects on a conveyor belt: FILE (or - for stdin).
 
@@ -174,6 +180,10 @@ def scan(
     from ..scanner.io import read_rows, write_pbm
     from ..scanner.simulate import make_belt
 
+    if files is not None or scheduler is not None:
+        from ._files import scan_many
+
+        return scan_many(locals())
     if (file is None) == (simulate is None):
         raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
     if write_belt is not None and simulate is None:

@@ -12,7 +12,7 @@ import numpy as np
 from .._validation import as_angle_array
 from ..classifiers import RBFNetworkClassifier, TentacleClassifier
 from ..io import save_model
-from .options import parse_angle
+from .options import dask_client, parse_angle, predict_on, scheduler_option
 
 
 class Spread(click.ParamType):
@@ -161,6 +161,7 @@ def read_training_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     show_default=True,
     help="Ramp through the measured total turn (robust to joint noise).",
 )
+@scheduler_option
 def train(
     data: Path,
     out: Path,
@@ -168,6 +169,7 @@ def train(
     spread: float | str,
     n_coeffs: int | None,
     detrend: bool,
+    scheduler: str | None = None,
 ) -> None:
     """Train a classifier on labelled joint-angle arrays and save it to --out.
 
@@ -180,8 +182,9 @@ def train(
         model = TentacleClassifier(
             n_coeffs=n_coeffs, detrend=detrend, classifier=RBFNetworkClassifier(spread=spread)
         )
-    model.fit(X, y)
-    accuracy = model.score(X, y)
+    with dask_client(scheduler) as client:
+        model.fit(X, y)
+        accuracy = float(np.mean(predict_on(model, X, client) == y))
     save_model(model, out)
     used = model.pipeline_.named_steps["classifier"].spread_
     names = ", ".join(str(c) for c in model.classes_)

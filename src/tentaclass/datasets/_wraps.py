@@ -18,6 +18,7 @@ import numpy as np
 from shapely.geometry import Polygon
 from sklearn.utils import Bunch
 
+from .. import _dask
 from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
 from ..geometry import angles_to_points
@@ -108,6 +109,7 @@ def synthetic_tentacle(
     offset_links: tuple[float, float] = (0.0, 3.0),
     noise: float | tuple[float, float] = (0.0, 0.05),
     seed: int = 0,
+    client: object = None,
 ) -> Bunch:
     """Wraps of random squares, circles, triangles and rectangles.
 
@@ -128,6 +130,8 @@ def synthetic_tentacle(
     noise : float or (float, float), default=(0, 0.05)
         Joint-noise sigma in radians, or the range it is drawn from.
     seed : int, default=0
+    client : distributed.Client, optional
+        Generate the wraps on this Dask cluster; the result is the same.
 
     Returns
     -------
@@ -161,10 +165,12 @@ def synthetic_tentacle(
     ones = np.ones(n_samples)
     # Chords are shorter than the arcs they span: rescale once so that the chain
     # covers the drawn number of laps.
-    _, got_laps, _, done = _wrap_both_ways(outlines, n_links, ones, starts, off, cw)
+    _, got_laps, _, done = _dask.split_rows(_wrap_both_ways, outlines, n_links, ones, starts, off,
+                                            cw, client=client)  # fmt: skip
     scale = np.where(done & (got_laps > 0), got_laps / lap_target, 1.0)
     outlines = [o * f for o, f in zip(outlines, scale, strict=True)]
-    angles, got_laps, _, _ = _wrap_both_ways(outlines, n_links, ones, starts, off, cw)
+    angles, got_laps, _, _ = _dask.split_rows(_wrap_both_ways, outlines, n_links, ones, starts,
+                                              off, cw, client=client)  # fmt: skip
     angles = angles + rng.normal(0.0, 1.0, angles.shape) * sigma[:, None]
     return Bunch(data=angles, target=cls, laps=got_laps, offset=off, noise=sigma,
                  DESCR="Synthetic wraps of the four thesis classes (unit links).")  # fmt: skip
@@ -288,6 +294,7 @@ def mpeg7_tentacle(
     max_vertices: int = 1000,
     cache: bool = True,
     n_jobs: int | None = None,
+    client: object = None,
 ) -> Bunch:
     """One-lap tentacle wraps of every MPEG-7 Part B silhouette.
 
@@ -317,6 +324,9 @@ def mpeg7_tentacle(
         Processes for the bisection, as in joblib: -1 all cores, None one
         (unless a ``joblib.parallel_config`` block says otherwise). The wraps
         do not depend on it.
+    client : distributed.Client, optional
+        Run the bisection on this Dask cluster (joblib's Dask backend, every
+        worker); the wraps are the same.
 
     Returns
     -------
@@ -346,7 +356,9 @@ def mpeg7_tentacle(
         with np.load(path, allow_pickle=False) as f:
             angles = f["angles"]
     else:
-        angles = _one_lap_wraps(outlines, n_links, mode, copies, seed, n_jobs=n_jobs)
+        with _dask.on_client(client):
+            jobs = -1 if client is not None else n_jobs
+            angles = _one_lap_wraps(outlines, n_links, mode, copies, seed, n_jobs=jobs)
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
             np.savez(path, angles=angles)

@@ -20,6 +20,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .._dask import blockwise
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_angle_array, check_positive_float, check_positive_int
 from ..errors import InputError
@@ -186,6 +187,7 @@ def _rescaled_rows(
             )
 
 
+@blockwise
 def fourier_features(
     q: ArrayLike,
     n_coeffs: int | None = None,

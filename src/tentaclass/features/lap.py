@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._dask import blockwise
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validation import as_angle_array, check_positive_int
 from ..errors import InputError
@@ -57,6 +58,7 @@ def _resample_open(points: FloatArray, n: int) -> FloatArray:
     return np.stack([np.interp(t, s, points[:, 0]), np.interp(t, s, points[:, 1])], axis=1)
 
 
+@blockwise
 def last_lap(
     q: ArrayLike, n_out: int | None = None, link_lengths: ArrayLike = 1.0
 ) -> tuple[FloatArray, BoolArray]:

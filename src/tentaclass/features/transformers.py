@@ -11,6 +11,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
+from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_finite_float, check_frequency_count, check_positive_int, check_X
 from ..errors import InputError
@@ -20,7 +21,7 @@ from .lap import last_lap
 __all__ = ["AngleSpectrum", "FourierFeatures", "LastLap"]
 
 
-class FourierFeatures(TransformerMixin, BaseEstimator):
+class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles -> ``|DFT|`` of the periodic turning signal, as a transformer.
 
     Parameters
@@ -121,7 +122,7 @@ class FourierFeatures(TransformerMixin, BaseEstimator):
         return np.array([f"fourier{k}" for k in range(1, self.n_coeffs_ + 1)], dtype=object)
 
 
-class LastLap(TransformerMixin, BaseEstimator):
+class LastLap(DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles of any wrap -> its last full lap as a closed array.
 
     A transformer around :func:`tentaclass.features.last_lap`: removes the
@@ -177,7 +178,7 @@ class LastLap(TransformerMixin, BaseEstimator):
         return last_lap(X, self.n_out_)[0]
 
 
-class AngleSpectrum(TransformerMixin, BaseEstimator):
+class AngleSpectrum(DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles -> ``|DFT|`` of the angle array itself, as a transformer.
 
     Where :class:`FourierFeatures` describes one closed lap, this describes the

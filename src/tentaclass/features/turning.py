@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._dask import blockwise
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_angle_array, check_positive_float
 
 __all__ = ["canonical_direction", "periodic_signal", "turning_function"]
 
 
+@blockwise
 def turning_function(q: ArrayLike) -> FloatArray:
     """Heading of each link of a planar chain, from its relative joint angles.
 
@@ -38,6 +40,7 @@ def turning_function(q: ArrayLike) -> FloatArray:
     return np.cumsum(as_angle_array(q, "q", min_joints=1), axis=-1)
 
 
+@blockwise
 def periodic_signal(
     q: ArrayLike, *, detrend: bool = False, period: float = 2 * np.pi
 ) -> FloatArray:
@@ -77,6 +80,7 @@ def periodic_signal(
     return t - total * k
 
 
+@blockwise
 def canonical_direction(q: ArrayLike) -> FloatArray:
     """Turn clockwise wraps into counter-clockwise ones.
 

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 import numpy as np
 import shapely
 
+from .. import _dask
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
@@ -197,6 +198,9 @@ def wrap_many(
     mode = _choice(mode, "mode", _MODES)
     noise = check_positive_float(noise, "noise", allow_zero=True)
     thickness = check_positive_float(thickness, "thickness", allow_zero=True)
+    if _dask.wants_blocks(outlines, link_length, starts, offset):  # lazy, chunk by chunk
+        kw = {"direction": direction, "mode": mode, "noise": noise, "thickness": thickness}
+        return _dask.wrap_blocks(wrap_many, outlines, n, link_length, starts, offset, seed, **kw)
     single = _is_single(outlines)
     if single:
         shapes = [as_outline(outlines)]

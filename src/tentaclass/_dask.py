@@ -1,0 +1,551 @@
+"""Dask support in one place: lazy block-wise calls, per-block seeds, clients, file jobs.
+
+Nothing here imports dask unless the caller already has: an argument is a dask
+collection only if ``dask`` is in :data:`sys.modules` and
+``dask.is_dask_collection`` says so. The hooks at the public boundaries are
+one line each:
+
+- :func:`blockwise` decorates a function of arrays of shape ``(..., n)``
+  (the descriptors): a dask array in gives a dask array out, computed block
+  by block with the function itself;
+- :class:`DaskMixin` does the same for every estimator's ``predict``,
+  ``predict_proba``, ``predict_log_proba``, ``transform`` and
+  ``decision_function``;
+- :func:`wrap_blocks` runs :func:`tentaclass.wrap_many` once per chunk of its
+  parameter arrays (or per partition of a bag of outlines);
+- :func:`scheduler` opens a client (a ``LocalCluster`` or a running
+  scheduler) for the command line; :func:`map_files` runs one job per input
+  file on it, each writing its output under a temporary name that is renamed
+  only when the file is complete.
+
+Nothing calls ``compute()``: the caller decides when and where to compute.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import itertools
+import math
+import os
+import re
+import sys
+import tempfile
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError, TentaclassError
+
+__all__ = [
+    "DaskMixin",
+    "SchedulerError",
+    "atomic_output",
+    "block_seeds",
+    "blockwise",
+    "is_dask_collection",
+    "map_files",
+    "scheduler",
+    "wrap_blocks",
+]
+
+#: Methods of an estimator that take ``X`` of shape (n_samples, n_features) row by row.
+ROW_METHODS = ("predict", "predict_proba", "predict_log_proba", "transform", "decision_function")
+
+#: Seconds to wait for a scheduler address to answer.
+CONNECT_TIMEOUT = 10.0
+
+_ADDRESS = re.compile(r"^(tcp|tls|ucx|inproc|ws|wss)://[^\s/]+(:\d+)?/?$")
+
+
+class SchedulerError(TentaclassError):
+    """The Dask scheduler could not be reached, or the cluster lost the job."""
+
+
+def is_dask_collection(x: object) -> bool:
+    """True if ``x`` is a dask collection; never imports dask itself.
+
+    Examples
+    --------
+    >>> is_dask_collection(np.zeros(3))
+    False
+    """
+    dask = sys.modules.get("dask")
+    return dask is not None and bool(dask.is_dask_collection(x))
+
+
+def _as_dask_array(x: Any):
+    import dask.array as da
+
+    if hasattr(x, "to_dask_array"):  # a dask DataFrame: row counts stay unknown
+        x = x.to_dask_array()
+    return da.asarray(x)
+
+
+class _Blocks:
+    """The per-block call: the function on one block, or empty outputs for an empty block."""
+
+    def __init__(self, func: Callable, metas: tuple[np.ndarray, ...], single: bool):
+        self.func, self.metas, self.single = func, metas, single
+
+    def __call__(self, block: np.ndarray):
+        if block.size == 0:
+            out = tuple(np.empty(block.shape[:-1] + m.shape[1:], m.dtype) for m in self.metas)
+        else:
+            out = self.func(block)
+        return out[0] if self.single and isinstance(out, tuple) else out
+
+
+def apply_rows(func: Callable[[np.ndarray], Any], x: Any):
+    """``func`` applied lazily to each block of ``x`` along its leading axes.
+
+    ``func`` maps an array of shape ``(..., n)`` to one array, or a tuple of
+    arrays, of shape ``(..., *core)``. It is called once on one row (the turns of a
+    regular polygon) first: that checks the arguments at once (errors are raised here, not at
+    compute time) and gives each output's core shape and dtype, from which the
+    output ``chunks`` and ``meta`` follow. The last axis of ``x`` is brought
+    into one chunk; the leading axes keep their chunks.
+
+    Parameters
+    ----------
+    func : callable
+        Works on NumPy arrays; must act on every row independently.
+    x : dask array or dask DataFrame
+        Rows of ``n`` values (a DataFrame's columns become the last axis).
+
+    Returns
+    -------
+    dask array, or a tuple of them
+        Lazy: nothing has been computed.
+
+    Examples
+    --------
+    >>> import dask.array as da
+    >>> x = da.ones((10, 4), chunks=(3, 2))
+    >>> y = apply_rows(lambda b: b.sum(axis=-1, keepdims=True), x)
+    >>> y.chunks
+    ((3, 3, 3, 1), (1,))
+    >>> y.sum().compute()
+    np.float64(40.0)
+    """
+    import dask.array as da
+
+    x = _as_dask_array(x)
+    if x.ndim == 0:
+        raise InputError("a dask array of rows needs at least one axis, got a scalar")
+    n = x.shape[-1]
+    if math.isnan(n):
+        raise InputError("the last axis of a dask array of rows must have a known size")
+    x = x.rechunk({x.ndim - 1: -1})
+    # one row of a closed regular polygon: valid input for every angle function
+    probe = func(np.full((1, n), 2 * np.pi / max(n, 1)).astype(x.dtype, copy=False))
+    single = not isinstance(probe, tuple)
+    outs = (probe,) if single else probe
+    sizes, cores = {}, []
+    for i, out in enumerate(outs):
+        names = [f"o{i}_{j}" for j in range(out.ndim - 1)]
+        sizes.update(zip(names, out.shape[1:], strict=True))
+        cores.append("(" + ",".join(names) + ")")
+    lead = (0,) * (x.ndim - 1)
+    metas = tuple(np.empty(lead + out.shape[1:], out.dtype) for out in outs)
+    result = da.apply_gufunc(
+        _Blocks(func, tuple(np.empty((0, *o.shape[1:]), o.dtype) for o in outs), single),
+        "(n)->" + ",".join(cores),
+        x,
+        output_sizes=sizes,
+        meta=metas[0] if single else metas,
+    )
+    return result
+
+
+def blockwise(func: Callable) -> Callable:
+    """Decorator: ``func(q, ...)`` on a dask array ``q`` runs lazily block by block.
+
+    For NumPy input (or anything else that is not a dask collection) the
+    function runs as before.
+    """
+
+    @functools.wraps(func)
+    def dispatch(q, *args, **kwargs):
+        if is_dask_collection(q):
+            # ``dispatch`` is the module attribute, so workers import it by name
+            return apply_rows(functools.partial(_call_with_rows_first, dispatch, args, kwargs), q)
+        return func(q, *args, **kwargs)
+
+    return dispatch
+
+
+def _call_with_rows_first(func: Callable, args: tuple, kwargs: dict, block: np.ndarray):
+    return func(block, *args, **kwargs)
+
+
+def _call_method(estimator: Any, name: str, args: tuple, kwargs: dict, block: np.ndarray):
+    return getattr(estimator, name)(block, *args, **kwargs)
+
+
+def _lazy_method(name: str, method: Callable) -> Callable:
+    @functools.wraps(method)
+    def wrapper(self, X, *args, **kwargs):
+        if is_dask_collection(X):
+            return apply_rows(functools.partial(_call_method, self, name, args, kwargs), X)
+        return method(self, X, *args, **kwargs)
+
+    wrapper._dask_rows = True  # type: ignore[attr-defined]
+    return wrapper
+
+
+class DaskMixin:
+    """Estimators whose row-wise methods take dask arrays and return dask arrays.
+
+    Every method named in :data:`ROW_METHODS` that a subclass defines or
+    inherits as a plain function is wrapped: a dask array (or DataFrame) ``X``
+    gives a lazy dask array computed block of rows by block of rows with the
+    fitted estimator, which is checked at once on one row (a fitted
+    estimator, the right number of features). Other input goes to the method
+    unchanged.
+    """
+
+    def __init_subclass__(cls, **kwargs: Any):
+        super().__init_subclass__(**kwargs)
+        import inspect
+
+        for name in ROW_METHODS:
+            method = inspect.getattr_static(cls, name, None)
+            if inspect.isfunction(method) and not getattr(method, "_dask_rows", False):
+                setattr(cls, name, _lazy_method(name, method))
+
+
+# -- seeds ---------------------------------------------------------------------------------------
+
+
+def block_seeds(
+    seed: int | np.random.Generator | None, n_blocks: int
+) -> list[np.random.SeedSequence]:
+    """One independent seed per block, from one seed: the same whoever runs the blocks.
+
+    Parameters
+    ----------
+    seed : int, numpy Generator or None
+        A Generator contributes one draw; None takes fresh entropy.
+    n_blocks : int
+
+    Returns
+    -------
+    list of numpy.random.SeedSequence
+
+    Examples
+    --------
+    >>> a = [np.random.default_rng(s).random() for s in block_seeds(7, 3)]
+    >>> b = [np.random.default_rng(s).random() for s in block_seeds(7, 3)]
+    >>> a == b, len(set(a))
+    (True, 3)
+    """
+    if isinstance(seed, np.random.Generator):
+        seed = int(seed.integers(2**63))
+    try:
+        root = np.random.SeedSequence(seed)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"seed must be None, an integer >= 0 or a numpy Generator, got {seed!r}"
+        ) from None
+    return root.spawn(n_blocks)
+
+
+# -- wraps ---------------------------------------------------------------------------------------
+
+_WRAP_FIELDS = {  # name: (core shape given n_links, dtype)
+    "angles": (lambda n: (n,), np.float64),
+    "joints": (lambda n: (n + 1, 2), np.float64),
+    "contact": (lambda n: (n + 1,), np.bool_),
+    "lap": (lambda n: (n + 1,), np.int64),
+    "laps": (lambda n: (), np.float64),
+    "offset_links": (lambda n: (), np.int64),
+    "heading": (lambda n: (), np.float64),
+    "complete": (lambda n: (), np.bool_),
+    "n_placed": (lambda n: (), np.int64),
+    "closure_gap": (lambda n: (), np.float64),
+    "start_point": (lambda n: (2,), np.float64),
+}
+
+
+def wants_blocks(outlines: object, *params: object) -> bool:
+    """True if :func:`tentaclass.wrap_many` got a dask array or bag to run block by block."""
+    return any(is_dask_collection(p) for p in (outlines, *params))
+
+
+def _wrap_block(wrap_many, outlines, n_links, kwargs, seed, *params):
+    """One block of wraps: NumPy parameters in, a dict of NumPy fields out."""
+    if isinstance(outlines, list) and len(outlines) == 0:
+        return {k: np.empty((0, *core(n_links)), dt) for k, (core, dt) in _WRAP_FIELDS.items()}
+    names = ("link_length", "starts", "offset")
+    given = {k: np.asarray(v) for k, v in zip(names, params, strict=True)}
+    batch = wrap_many(outlines, n_links, **given, **kwargs, seed=seed)
+    return {k: getattr(batch, k) for k in _WRAP_FIELDS}
+
+
+def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: Any,
+                starts: Any, offset: Any, seed: Any, **kwargs: Any) -> Any:  # fmt: skip
+    """:func:`tentaclass.wrap_many` chunk by chunk: a ``WrapBatch`` of dask arrays.
+
+    The blocks are the chunks of the dask parameter arrays (``link_length``,
+    ``starts``, ``offset``: rechunked to the chunks of the first dask one), or
+    the partitions of a dask bag of outlines. A list of outlines is split
+    along with the parameters. Each block's noise comes from its own
+    :func:`block_seeds` seed, so the result depends on the seed and the
+    chunks, never on the workers.
+    """
+    import dask
+    import dask.array as da
+
+    n = int(n_links)
+    params = [link_length, starts, offset]
+    if is_dask_collection(outlines):
+        if any(is_dask_collection(p) or np.ndim(p) > 0 for p in params):
+            raise InputError(
+                "with a dask bag of outlines, link_length, starts and offset must be scalars"
+            )
+        parts = outlines.to_delayed()
+        blocks = [(part, params, None) for part in parts]
+    else:
+        arrays = [p for p in params if is_dask_collection(p)]
+        for p in arrays:
+            if p.ndim != 1:
+                raise InputError(f"a dask parameter array must be 1-D, got shape {p.shape}")
+        chunks, size = arrays[0].chunks[0], arrays[0].shape[0]
+        many = not (isinstance(outlines, np.ndarray) and outlines.ndim == 2) and not (
+            isinstance(outlines, Sequence) and len(outlines) > 0 and np.ndim(outlines[0]) == 1
+        )
+        if many and len(outlines) != size:
+            raise InputError(
+                f"outlines: {len(outlines)} outlines for parameter arrays of {size} wraps"
+            )
+        bounds = np.cumsum((0, *chunks))
+        cut = [
+            p.rechunk((chunks,)).to_delayed().ravel().tolist()
+            if is_dask_collection(p)
+            else [np.broadcast_to(p, (size,))[a:b] for a, b in itertools.pairwise(bounds)]
+            for p in params
+        ]
+        blocks = []
+        for i, (a, b) in enumerate(itertools.pairwise(bounds)):
+            rows = list(outlines[a:b]) if many else outlines
+            blocks.append((rows, [c[i] for c in cut], b - a))
+    seeds = block_seeds(seed, len(blocks)) if kwargs.get("noise", 0) > 0 else [None] * len(blocks)
+    fields: dict[str, list] = {k: [] for k in _WRAP_FIELDS}
+    run = dask.delayed(_wrap_block, pure=True)
+    for (rows, ps, count), s in zip(blocks, seeds, strict=True):
+        res = run(wrap_many, rows, n, kwargs, s, *ps)
+        for k, (core, dt) in _WRAP_FIELDS.items():
+            shape = (np.nan if count is None else count, *core(n))
+            fields[k].append(
+                da.from_delayed(res[k], shape=shape, dtype=dt, meta=np.empty((0,) * len(shape), dt))
+            )
+    from .wrapping import WrapBatch
+
+    batch = WrapBatch(**{k: da.concatenate(v, axis=0) for k, v in fields.items()})
+    object.__setattr__(batch, "_link_length", link_length)
+    object.__setattr__(batch, "_direction", kwargs.get("direction", "ccw"))
+    return batch
+
+
+def split_rows(func: Callable, *args: Any, client: Any = None, **kwargs: Any) -> Any:
+    """``func(*args, **kwargs)`` run on slices of rows on ``client``, outputs joined.
+
+    The row count is ``len(args[0])``; every positional argument of that length
+    (list or array) is sliced, the others are passed whole. ``func`` must act
+    on each row independently and return an array or a tuple of arrays with
+    rows first: then the result is identical with or without a client and for
+    any number of workers. Without a client ``func`` runs once, here.
+    """
+    if client is None:
+        return func(*args, **kwargs)
+    n = len(args[0])
+    n_workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
+    step = max(1, math.ceil(n / (4 * n_workers)))
+
+    def rowwise(a: Any) -> bool:
+        if isinstance(a, np.ndarray):
+            return a.ndim > 0 and len(a) == n
+        return isinstance(a, list) and len(a) == n
+
+    calls = [[a[i : i + step] if rowwise(a) else a for a in args] for i in range(0, n, step)]
+    futures = [client.submit(func, *c, pure=False, **kwargs) for c in calls]
+    parts = client.gather(futures)
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(p) for p in zip(*parts, strict=True))
+    return np.concatenate(parts)
+
+
+@contextlib.contextmanager
+def on_client(client: Any) -> Iterator[Any]:
+    """``client`` as the default Dask client and the joblib backend (no-op for None)."""
+    if client is None:
+        yield None
+        return
+    import joblib
+
+    with client.as_current(), joblib.parallel_config(backend="dask"):
+        yield client
+
+
+# -- clients -------------------------------------------------------------------------------------
+
+
+def _check_address(address: str) -> str:
+    if address == "local" or _ADDRESS.match(address):
+        return address
+    raise InputError(
+        f"scheduler must be 'local' or an address such as tcp://host:8786, got {address!r}"
+    )
+
+
+@contextlib.contextmanager
+def scheduler(
+    address: str | None,
+    *,
+    timeout: float | None = None,
+    n_workers: int | None = None,
+    echo: Callable[[str], None] | None = None,
+) -> Iterator[Any]:
+    """A Dask client for ``address``, as the default client and joblib backend.
+
+    Parameters
+    ----------
+    address : str or None
+        ``None``: no client, work stays in this process (yields None).
+        ``"local"``: start a ``LocalCluster`` of worker processes, one per core
+        (``n_workers``), one thread each. Otherwise the address of a running
+        scheduler, e.g. ``tcp://host:8786``.
+    timeout : float, optional
+        Seconds to wait for the scheduler to answer; default
+        :data:`CONNECT_TIMEOUT`.
+    n_workers : int, optional
+        Workers of a local cluster; default the number of cores.
+    echo : callable, optional
+        Receives one line naming the dashboard address.
+
+    Yields
+    ------
+    distributed.Client or None
+
+    Raises
+    ------
+    SchedulerError
+        The address does not answer within ``timeout`` seconds.
+    """
+    if address is None:
+        yield None
+        return
+    _check_address(address)
+    timeout = CONNECT_TIMEOUT if timeout is None else timeout
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    cluster = None
+    try:
+        if address == "local":
+            cluster = LocalCluster(
+                n_workers=n_workers or os.cpu_count() or 1,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=":0",
+                silence_logs=logging.ERROR,
+            )
+            client = Client(cluster)
+        else:
+            client = Client(address, timeout=f"{timeout}s")
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise SchedulerError(
+            f"cannot reach the Dask scheduler at {address} within {timeout:g} s "
+            f"({type(exc).__name__}); is it running and is the address right?"
+        ) from None
+    try:
+        if echo is not None:
+            n = len(client.scheduler_info(n_workers=-1).get("workers", {}))
+            where = client.scheduler.address
+            echo(f"dask: {n} workers at {where}, dashboard {client.dashboard_link}")
+        with on_client(client):
+            yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+# -- one job per file ----------------------------------------------------------------------------
+
+
+@contextlib.contextmanager
+def atomic_output(path: str | os.PathLike, mode: str = "w") -> Iterator[Any]:
+    """Write ``path`` under a temporary name in its folder; rename it only on success.
+
+    A reader never sees a half-written file under the final name: if the
+    writer fails (or its process dies), the temporary file is removed (or left
+    behind as ``.<name>.*.part``), and ``path`` keeps its old content, if any.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp()) / "a.txt"
+    >>> with atomic_output(out) as fh:
+    ...     _ = fh.write("done")
+    >>> out.read_text()
+    'done'
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    try:
+        with os.fdopen(fd, mode) as fh:
+            yield fh
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def map_files(
+    job: Callable[..., Any], inputs: Sequence[Path], outputs: Sequence[Path], *args: Any,
+    client: Any = None, progress: bool = True,
+) -> list[Any]:  # fmt: skip
+    """``job(input, output, *args)`` for each file pair, on ``client`` if given.
+
+    Without a client the files run one after the other in this process. With
+    one, each file is one task (the arguments are sent to every worker once);
+    Dask's progress bar goes to stderr. A worker that dies has its task rerun
+    on another worker (up to the scheduler's ``allowed-failures``); a job that
+    fails ends the run with a :class:`SchedulerError` or the job's own error,
+    after the other files' tasks are cancelled. Jobs write their outputs with
+    :func:`atomic_output`, so no output file is ever left half written.
+
+    Returns
+    -------
+    list
+        Each job's return value, in input order.
+    """
+    if client is None:
+        return [job(i, o, *args) for i, o in zip(inputs, outputs, strict=True)]
+    from distributed import progress as dask_progress
+    from distributed.scheduler import KilledWorker
+
+    shared = [client.scatter(a, broadcast=True) for a in args]
+    futures = client.map(job, list(inputs), list(outputs), *[[s] * len(inputs) for s in shared],
+                         pure=False)  # fmt: skip
+    try:
+        if progress:
+            with contextlib.redirect_stdout(sys.stderr):
+                dask_progress(futures, scheduler=client.scheduler.address)
+                print(file=sys.stderr)
+        return client.gather(futures)
+    except KilledWorker as exc:
+        raise SchedulerError(
+            f"workers died running {exc.task!r} again and again ({exc.last_worker}); "
+            "its output was not written, the other files' outputs are complete"
+        ) from None
+    finally:
+        client.cancel(futures)

@@ -1,0 +1,248 @@
+"""One job per input file for ``classify --files`` and ``scan --files``.
+
+Each job reads its file block by block (memory bounded by the block, not the
+file), writes its output next to the others under a temporary name, and
+renames it when the file is done (:func:`tentaclass._dask.atomic_output`); the
+jobs run here or on a Dask cluster (:func:`tentaclass._dask.map_files`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import glob
+import json
+from collections import Counter
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._dask import atomic_output
+from ..report import classification_table
+from .options import read_angle_file
+
+#: Arrays read, featurised and classified per step.
+BLOCK_ROWS = 65536
+
+ANGLE_SUFFIXES = (".parquet", ".npy", ".csv", ".txt")
+
+
+def expand(pattern: str, suffixes: tuple[str, ...] | None = None) -> list[Path]:
+    """Files matching a glob pattern (``**`` recurses), sorted; an error if none."""
+    paths = sorted(Path(p) for p in glob.glob(pattern, recursive=True) if Path(p).is_file())
+    if suffixes is not None:
+        paths = [p for p in paths if p.suffix.lower() in suffixes]
+    if not paths:
+        kinds = f" ({', '.join(suffixes)})" if suffixes else ""
+        raise ValueError(f"no files{kinds} match {pattern!r}")
+    stems = Counter(p.stem for p in paths)
+    twice = sorted(s for s, c in stems.items() if c > 1)
+    if twice:
+        raise ValueError(f"files from different folders share the name {twice[0]!r}: "
+                         "their outputs would overwrite each other")  # fmt: skip
+    return paths
+
+
+def output_paths(inputs: list[Path], out_dir: Path, suffix: str) -> list[Path]:
+    """``out_dir/<stem><suffix>`` for each input; creates ``out_dir``."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    return [out_dir / f"{p.stem}{suffix}" for p in inputs]
+
+
+def angle_blocks(path: Path, rows: int | None = None) -> Iterator[np.ndarray]:
+    """Joint-angle arrays of a Parquet, ``.npy`` or text/CSV file, ``rows`` at a time.
+
+    Parquet: one numeric column per joint angle, read by record batches;
+    ``.npy``: memory-mapped; text/CSV: read whole (see ``read_angle_file``).
+    """
+    rows = BLOCK_ROWS if rows is None else rows
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        try:
+            pf = pq.ParquetFile(path)
+        except (pa.ArrowException, OSError) as exc:
+            raise ValueError(f"{path}: not a readable Parquet file ({exc})") from None
+        bad = [f.name for f in pf.schema_arrow if not pa.types.is_floating(f.type)
+               and not pa.types.is_integer(f.type)]  # fmt: skip
+        if bad:
+            raise ValueError(f"{path}: column {bad[0]!r} is not numeric; expected one "
+                             "numeric column per joint angle")  # fmt: skip
+        for batch in pf.iter_batches(batch_size=rows):
+            yield np.column_stack([c.to_numpy(zero_copy_only=False) for c in batch.columns]
+                                  ).astype(np.float64, copy=False)  # fmt: skip
+    elif suffix == ".npy":
+        with open(path, "rb") as fh:
+            if fh.read(6) != b"\x93NUMPY":
+                raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
+        try:
+            arr = np.load(path, mmap_mode="r", allow_pickle=False)
+        except (ValueError, OSError) as exc:
+            raise ValueError(f"{path}: not a readable .npy file ({exc})") from None
+        arr = arr.reshape(1, -1) if arr.ndim == 1 else arr
+        if arr.ndim != 2 or not np.issubdtype(arr.dtype, np.number):
+            raise ValueError(
+                f"{path}: expected a 2-D array of numbers, got {arr.dtype} {arr.shape}"
+            )
+        for lo in range(0, arr.shape[0], rows):
+            yield np.asarray(arr[lo : lo + rows], dtype=np.float64)
+    else:
+        yield read_angle_file(path)
+
+
+def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int:
+    """Classify every array of ``src`` into ``dst`` (Parquet or CSV); returns the count.
+
+    ``dst`` gets the columns of :func:`tentaclass.report.classification_table`
+    (``index`` counting from 0 over the whole file) and appears only when the
+    whole file is done.
+    """
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+    import pyarrow.parquet as pq
+
+    if model is None:  # the built-in model, for this file's chain length
+        from .classify import default_model
+
+        first = next(iter(angle_blocks(src, 1)), None)
+        model = default_model(first.shape[1] if first is not None else 3)
+        n_joints = model.n_features_in_
+    done = 0
+    writer = None
+    with atomic_output(dst, "wb") as fh, contextlib.ExitStack() as stack:
+        for X in angle_blocks(src):
+            if X.shape[1] != n_joints:
+                raise ValueError(f"{src}: arrays of {X.shape[1]} joint angles, but the model "
+                                 f"expects {n_joints}")  # fmt: skip
+            if not np.all(np.isfinite(X)):
+                row = done + int(np.flatnonzero(~np.isfinite(X).all(axis=1))[0])
+                raise ValueError(f"{src}: array {row} holds NaN or infinite angles")
+            table = classification_table(model.predict(X), model.predict_proba(X), model.classes_)
+            table["index"] = table["index"] + done
+            batch = pa.table(table)
+            if writer is None:
+                writer = (pq.ParquetWriter(fh, batch.schema) if dst.suffix == ".parquet"
+                          else pcsv.CSVWriter(fh, batch.schema))  # fmt: skip
+                stack.callback(writer.close)  # before the file closes, also on failure
+            writer.write_table(batch)
+            done += X.shape[0]
+    return done
+
+
+def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:
+    """Scan one belt file into ``dst``, one JSON line per object; returns its summary."""
+    from ..errors import TentaclassError
+    from ..scanner import LineScanner
+    from ..scanner.io import read_rows
+
+    stats: Counter = Counter()
+    scanner = None
+    with open(src, "rb") as fh, atomic_output(dst) as out:
+        for chunk in read_rows(fh, fmt=settings.get("fmt"), width=settings.get("width"),
+                               chunk_rows=settings.get("chunk_rows", 1024)):  # fmt: skip
+            if scanner is None:
+                w = settings.get("width") or (chunk.shape[1] if isinstance(chunk, np.ndarray)
+                                              else None)  # fmt: skip
+                scanner = LineScanner(w, model, **settings.get("scanner", {}))
+            _write_objects(scanner.feed(chunk), out, stats)
+        if scanner is None:
+            raise TentaclassError(f"{src}: empty stream, no rows found")
+        _write_objects(scanner.close(), out, stats)
+    return {
+        "file": str(src), "rows": scanner.rows_seen, "ignored": scanner.n_ignored,
+        "objects": stats["objects"], "accepted": stats["accepted"],
+        "rejected": stats["objects"] - stats["accepted"],
+        "classes": {k[6:]: v for k, v in sorted(stats.items()) if k.startswith("class:")},
+    }  # fmt: skip
+
+
+def _write_objects(objects: list, out: Any, stats: Counter) -> None:
+    for obj in objects:
+        out.write(json.dumps(obj.to_dict()) + "\n")
+        stats["objects"] += 1
+        stats["accepted"] += bool(obj.accept)
+        stats[f"class:{obj.label}"] += 1
+
+
+def _chain_length(path: Path) -> int | None:
+    """Angles per array from a Parquet schema or a ``.npy`` header (None for text files)."""
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        return next(iter(angle_blocks(path, 1)), np.zeros((0, 0))).shape[1] or None
+    if suffix == ".npy":
+        return next(iter(angle_blocks(path, 1))).shape[1]
+    return None
+
+
+def classify_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
+                   n_joints: int | None) -> list[tuple[Path, Path, int]]:  # fmt: skip
+    """``classify --files``: every matching file -> ``out_dir/<stem>.labels.{parquet,csv}``.
+
+    With ``model`` None each file gets the built-in model for its chain length.
+    Files whose chain length differs from the model's are refused before any
+    work starts (Parquet and ``.npy``; text files when they are read).
+    """
+    if out_dir is None:
+        raise ValueError("--files needs --out-dir, the folder for the per-file results")
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise ValueError(
+            "classify --files writes with pyarrow: pip install 'tentaclass[dask]'"
+        ) from None
+    inputs = expand(pattern, ANGLE_SUFFIXES)
+    if n_joints is not None:
+        for path in inputs:
+            k = _chain_length(path)
+            if k is not None and k != n_joints:
+                raise ValueError(f"{path}: arrays of {k} joint angles, but the model expects "
+                                 f"{n_joints}")  # fmt: skip
+    outputs = [
+        out_dir / f"{p.stem}.labels{'.parquet' if p.suffix.lower() == '.parquet' else '.csv'}"
+        for p in inputs
+    ]
+    out_dir.mkdir(parents=True, exist_ok=True)
+    from .._dask import map_files
+
+    counts = map_files(classify_file, inputs, outputs, model, n_joints, client=client)
+    return list(zip(inputs, outputs, counts, strict=True))
+
+
+def scan_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
+               settings: dict) -> list[dict]:  # fmt: skip
+    """``scan --files``: every matching belt file -> ``out_dir/<stem>.jsonl``; the summaries."""
+    if out_dir is None:
+        raise ValueError("--files needs --out-dir, the folder for the per-belt results")
+    inputs = expand(pattern)
+    from .._dask import map_files
+
+    return map_files(scan_file, inputs, output_paths(inputs, out_dir, ".jsonl"), model, settings,
+                     client=client)  # fmt: skip
+
+
+def scan_many(opts: dict) -> None:
+    """``scan --files`` (optionally ``--scheduler``): the command's options in, files out."""
+    import click
+
+    from .options import dask_client
+
+    if opts["files"] is None or opts["file"] is not None or opts["simulate"] is not None:
+        raise click.UsageError("--scheduler works with --files GLOB (not FILE or --simulate)")
+    if opts["annotate"] is not None:
+        raise click.UsageError("--annotate draws one belt; it does not go with --files")
+    from ..scanner import ScannerModel
+
+    model = ScannerModel.load(opts["model_file"]) if opts["model_file"] is not None else None
+    keys = ("max_height", "min_area", "nominal_size", "size_tolerance")
+    settings = {"fmt": opts["fmt"], "width": opts["width"], "chunk_rows": opts["chunk_rows"],
+                "scanner": {k: opts[k] for k in keys}}  # fmt: skip
+    with dask_client(opts["scheduler"]) as client:
+        done = scan_files(opts["files"], opts["out_dir"], client, model, settings)
+    for s in done:
+        line = json.dumps({"summary": s}) if opts["summary"] == "json" else (
+            f"{s['file']}: {s['rows']} rows, {s['objects']} objects, {s['accepted']} accepted, "
+            f"{s['rejected']} rejected")  # fmt: skip
+        click.echo(line, err=opts["summary"] != "json")
