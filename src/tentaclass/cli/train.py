@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from .._validation import as_angle_array
-from ..classifiers import RBFNetworkClassifier, TentacleClassifier
+from ..classifiers import RBFNetworkClassifier, FourierClassifier
 from ..io import save_model
 from .options import parse_angle
 
@@ -175,9 +175,9 @@ def train(
     """
     X, y = read_training_file(data)
     if classifier == "pnn":
-        model = TentacleClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
+        model = FourierClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
     else:
-        model = TentacleClassifier(
+        model = FourierClassifier(
             n_coeffs=n_coeffs, detrend=detrend, classifier=RBFNetworkClassifier(spread=spread)
         )
     model.fit(X, y)
