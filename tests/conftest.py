@@ -44,7 +44,7 @@ def rng():
     return np.random.default_rng(12345)
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def mpeg7_folder():
     if not MPEG7.is_dir():
         pytest.skip(
