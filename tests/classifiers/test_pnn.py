@@ -5,7 +5,7 @@ from sklearn.model_selection import GridSearchCV, cross_val_score
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import tentaclass.classifiers._pnn as pnn_module
-from tentaclass.classifiers import PNNClassifier, FourierClassifier
+from tentaclass.classifiers import FourierClassifier, PNNClassifier
 from tentaclass.datasets import thesis_tentacle
 
 

@@ -6,7 +6,7 @@ from scipy.spatial.distance import cdist
 from sklearn.utils.estimator_checks import parametrize_with_checks
 from threadpoolctl import threadpool_limits
 
-from tentaclass.classifiers import RBFNetworkClassifier, FourierClassifier
+from tentaclass.classifiers import FourierClassifier, RBFNetworkClassifier
 from tentaclass.datasets import thesis_tentacle
 
 

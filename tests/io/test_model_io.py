@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from sklearn.pipeline import make_pipeline
 
-from tentaclass.classifiers import PNNClassifier, RBFNetworkClassifier, FourierClassifier
+from tentaclass.classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
 from tentaclass.errors import ModelFileError
 from tentaclass.features import FourierFeatures

@@ -7,7 +7,6 @@ import numbers
 import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import softmax
-from scipy.stats import norm
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, validate_data
@@ -80,8 +79,11 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
     partial_scale_, partial_temperature_ : float
         The same for partial wraps.
     reject_distance_, partial_reject_distance_ : float
-        Scaled distances beyond which a wrap is "unknown" (``inf`` without
-        ``reject``).
+        Scaled distances to the nearest class beyond which a wrap is
+        "unknown" (``inf`` without ``reject``).
+    reject_margin_, partial_reject_margin_ : float
+        Scaled margins between the nearest and the second nearest class below
+        which a wrap is "unknown" (``-inf`` without ``reject``).
 
     Examples
     --------
@@ -161,14 +163,19 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
         q = _subset(len(y), _CALIBRATION_QUERIES, rng)
         d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
         d[groups[q][:, None] == groups[None, :]] = np.inf
-        self.scale_, self.temperature_, self.reject_distance_ = _calibrate(
+        self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
             _class_minima(d, y_idx, len(self.classes_)), y_idx[q], rate
         )
         # partial wraps: arcs of 0.5-0.95 laps cut from the training laps
         q = _subset(len(closed), _PARTIAL_QUERIES, rng)
         d = _cut_arc_distances(self.headings_[q], self.headings_, rng)
         d[arc_groups[q][:, None] == arc_groups[None, :]] = np.inf
-        self.partial_scale_, self.partial_temperature_, self.partial_reject_distance_ = _calibrate(
+        (
+            self.partial_scale_,
+            self.partial_temperature_,
+            self.partial_reject_distance_,
+            self.partial_reject_margin_,
+        ) = _calibrate(
             _class_minima(d, self.arc_labels_, len(self.classes_)), y_idx[closed][q], rate
         )
         return self
@@ -206,8 +213,11 @@ class TentacleClassifier(ClassifierMixin, BaseEstimator):
         """Class of each wrap; ``unknown_label`` where rejected (see ``reject``)."""
         s, closed, _ = self._scores(X)
         pred = self.classes_[np.argmin(s, axis=1)]
-        limit = np.where(closed, self.reject_distance_, self.partial_reject_distance_)
-        unknown = s.min(axis=1) > limit
+        far = np.where(closed, self.reject_distance_, self.partial_reject_distance_)
+        near = np.where(closed, self.reject_margin_, self.partial_reject_margin_)
+        ordered = np.sort(s, axis=1)
+        margin = ordered[:, 1] - ordered[:, 0] if s.shape[1] > 1 else np.full(len(s), np.inf)
+        unknown = (ordered[:, 0] > far) | (margin < near)
         if unknown.any():
             pred = pred.astype(object)
             pred[unknown] = self.unknown_label
@@ -262,8 +272,14 @@ def _class_minima(d: FloatArray, labels: np.ndarray, n_classes: int) -> FloatArr
     return out
 
 
-def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float, float, float]:
-    """Scale, softmax temperature and rejection distance from leave-one-out class distances."""
+def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float, ...]:
+    """Scale, softmax temperature and rejection limits from leave-one-out class distances.
+
+    Rejection has two limits, each taking half of ``rate`` of the known
+    wraps: the distance to the nearest class (far from everything seen) and
+    the margin between the nearest and the second nearest class (as close to
+    two classes as to one: typical of an object of a class not trained on).
+    """
     nearest = s.min(axis=1)
     finite = np.isfinite(nearest)
     scale = float(np.median(nearest[finite])) if finite.any() else 1.0
@@ -275,15 +291,16 @@ def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float,
         p = softmax(-s[rows] / np.exp(log_t), axis=1)
         return float(-np.mean(np.log(p[np.arange(rows.sum()), y[rows]] + 1e-12)))
 
-    t = (
-        float(np.exp(minimize_scalar(loss, bounds=(-6, 4), method="bounded").x))
-        if rows.any()
-        else 1.0
-    )
-    reject = (
-        float(np.quantile(nearest[finite] / scale, 1 - rate)) if rate and finite.any() else np.inf
-    )
-    return scale, t, reject
+    t = 1.0
+    if rows.any():
+        t = float(np.exp(minimize_scalar(loss, bounds=(-6, 4), method="bounded").x))
+    far, near = np.inf, -np.inf
+    if rate and finite.any():
+        far = float(np.quantile(nearest[finite] / scale, 1 - rate / 2))
+        if s.shape[1] > 1:
+            ordered = np.sort(s[finite], axis=1)
+            near = float(np.quantile(ordered[:, 1] - ordered[:, 0], rate / 2))
+    return scale, t, far, near
 
 
 def _arc_points(laps: float, n_points: int) -> int:

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from .._validation import as_angle_array
-from ..classifiers import RBFNetworkClassifier, FourierClassifier
+from ..classifiers import FourierClassifier, RBFNetworkClassifier
 from ..io import save_model
 from .options import parse_angle
 

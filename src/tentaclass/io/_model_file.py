@@ -38,7 +38,7 @@ import numpy as np
 from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted
 
-from ..classifiers import PNNClassifier, RBFNetworkClassifier, FourierClassifier
+from ..classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
 from ..errors import InputError, ModelFileError
 from ..features import FourierFeatures
 
