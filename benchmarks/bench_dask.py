@@ -158,7 +158,7 @@ def main() -> None:
     cli_arrays = args.arrays // args.files * args.cli_files
     print(f"data ready in {time.perf_counter() - t0:.1f} s", flush=True)
     X, y = reference_tentacle(N_JOINTS, n_starts=10, return_X_y=True)
-    model = tc.TentacleClassifier(detrend=True, spread=0.5).fit(X, y)
+    model = tc.FourierClassifier(detrend=True, spread=0.5).fit(X, y)
     outline = wavy_outline()
     starts = np.random.default_rng(1).uniform(0, 1, args.wraps)
     link = tc.closing_link_length(outline, 64)[0]

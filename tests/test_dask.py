@@ -97,7 +97,7 @@ def test_descriptor_tuple_output_and_leading_axes(client, data):
 def test_estimators_on_cluster(client, data):
     X, y, Xn = data
     dX = da.from_array(Xn, chunks=(50, 16))
-    clf = tc.TentacleClassifier(detrend=True, spread=0.5).fit(X, y)
+    clf = tc.FourierClassifier(detrend=True, spread=0.5).fit(X, y)
     F = tc.fourier_features(X)
     pnn = tc.PNNClassifier(spread=0.3).fit(F, y)
     rbf = tc.RBFNetworkClassifier().fit(F, y)
@@ -123,7 +123,7 @@ def test_estimator_agrees_with_dask_ml(client, data):
     """An independent implementation of block-wise predict: dask-ml's ParallelPostFit."""
     wrappers = pytest.importorskip("dask_ml.wrappers")
     X, y, Xn = data
-    clf = tc.TentacleClassifier(spread=0.5).fit(X, y)
+    clf = tc.FourierClassifier(spread=0.5).fit(X, y)
     dX = da.from_array(Xn, chunks=(70, 16))
     theirs = wrappers.ParallelPostFit(estimator=clf).predict_proba(dX)
     ours, theirs = client.compute([clf.predict_proba(dX), theirs], sync=True)

@@ -4,7 +4,8 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 
 - :mod:`tentaclass.geometry`: joint angles <-> points of a planar chain;
 - :mod:`tentaclass.features`: turning function, periodic signal, Fourier features;
-- :mod:`tentaclass.classifiers`: PNN and the end-to-end :class:`TentacleClassifier`;
+- :mod:`tentaclass.classifiers`: the default :class:`TentacleClassifier` (any wrap of a
+  fixed chain), the thesis's :class:`FourierClassifier`, PNN and more;
 - :mod:`tentaclass.datasets`: the thesis's arrays and grids;
 - :mod:`tentaclass.report`: results as columns / JSON;
 - :mod:`tentaclass.shapes`, :func:`wrap`: object outlines and the joint angles a chain
@@ -24,11 +25,15 @@ from ._lazy import lazy_exports
 if TYPE_CHECKING:
     from . import shapes
     from .classifiers import (
+        FourierClassifier,
+        OutlineClassifier,
         PNNClassifier,
         RBFNetworkClassifier,
         ShiftNNClassifier,
         TentacleClassifier,
+        bullseye_score,
         modern_mlp,
+        shape_distances,
         thesis_mlp,
     )
     from .features import (
@@ -36,7 +41,9 @@ if TYPE_CHECKING:
         canonical_direction,
         dft_layer,
         fourier_features,
+        outline_to_series,
         periodic_signal,
+        split_laps,
         turning_function,
     )
     from .geometry import angles_to_points, points_to_angles, resample_closed
@@ -60,10 +67,12 @@ __version__ = "0.1.0"
 __all__ = [
     "ChainKinematics",
     "Defect",
+    "FourierClassifier",
     "FourierFeatures",
     "GraspState",
     "Inspection",
     "LineScanner",
+    "OutlineClassifier",
     "PNNClassifier",
     "PlanarChain",
     "RBFNetworkClassifier",
@@ -76,6 +85,7 @@ __all__ = [
     "WrapBatch",
     "__version__",
     "angles_to_points",
+    "bullseye_score",
     "canonical_direction",
     "capture_error",
     "closing_link_length",
@@ -85,11 +95,14 @@ __all__ = [
     "load_model",
     "max_link_length",
     "modern_mlp",
+    "outline_to_series",
     "periodic_signal",
     "points_to_angles",
     "resample_closed",
     "save_model",
+    "shape_distances",
     "shapes",
+    "split_laps",
     "thesis_mlp",
     "turning_function",
     "wrap",
@@ -100,6 +113,12 @@ __all__ = [
 # first use, so that ``import tentaclass`` (and the CLI's start) stays light:
 # scikit-learn, matplotlib and scipy.stats load only when something needs them.
 _HOME = {
+    "FourierClassifier": "classifiers",
+    "OutlineClassifier": "classifiers",
+    "bullseye_score": "classifiers",
+    "shape_distances": "classifiers",
+    "outline_to_series": "features",
+    "split_laps": "features",
     "ChainKinematics": "manipulator",
     "Defect": "scanner",
     "FourierFeatures": "features",

@@ -4,7 +4,7 @@ from scipy.spatial.distance import cdist
 from sklearn.model_selection import GridSearchCV, cross_val_score
 
 import tentaclass.classifiers._pnn as pnn_module
-from tentaclass.classifiers import PNNClassifier, TentacleClassifier
+from tentaclass.classifiers import FourierClassifier, PNNClassifier
 from tentaclass.datasets import thesis_tentacle
 
 
@@ -161,7 +161,7 @@ def test_auto_spread_on_separated_clusters(rng, scale):
 
 def test_auto_spread_with_one_pattern_per_class():
     X, y = thesis_tentacle(16, return_X_y=True)
-    clf = TentacleClassifier(spread="auto").fit(X, y)
+    clf = FourierClassifier(spread="auto").fit(X, y)
     pnn = clf.pipeline_.named_steps["classifier"]
     assert np.isfinite(pnn.spread_) and pnn.spread_ > 0
     assert clf.predict(np.roll(X, 5, axis=1)).tolist() == y.tolist()
@@ -177,12 +177,12 @@ def test_auto_spread_ignores_duplicates_and_stays_finite():
 
 def test_rejection_gives_unknown_instead_of_forced_class():
     X, y = thesis_tentacle(16, return_X_y=True)
-    clf = TentacleClassifier(spread=1.0, reject_below=1e-3).fit(X, y)
+    clf = FourierClassifier(spread=1.0, reject_below=1e-3).fit(X, y)
     assert clf.predict(X).tolist() == y.tolist()
     star = np.tile([np.pi / 2 + 0.9, -0.9], 8)  # a wavy outline, no thesis class
     star *= 2 * np.pi / star.sum()
     assert clf.predict(star[None]).tolist() == ["unknown"]
-    forced = TentacleClassifier(spread=1.0).fit(X, y).predict(star[None])
+    forced = FourierClassifier(spread=1.0).fit(X, y).predict(star[None])
     assert forced[0] in set(y)
 
 
@@ -221,7 +221,7 @@ def test_single_class_and_nan_are_refused():
 @pytest.mark.parametrize("n_links", [16, 64])
 def test_thesis_shapes_from_every_start_point_and_both_directions(n_links):
     X, y = thesis_tentacle(n_links, return_X_y=True)
-    clf = TentacleClassifier().fit(X, y)
+    clf = FourierClassifier().fit(X, y)
     for k in range(n_links):
         rolled = np.roll(X, k, axis=1)
         assert clf.predict(rolled).tolist() == y.tolist()
@@ -234,11 +234,11 @@ def test_tentacle_classifier_in_cross_validation_and_grid_search(rng):
     Xs = np.concatenate([np.roll(X, k, axis=1) for k in range(16)])
     ys = np.tile(y, 16)
     Xs = Xs + rng.normal(0, 0.05, Xs.shape)
-    scores = cross_val_score(TentacleClassifier(detrend=True), Xs, ys, cv=4)
+    scores = cross_val_score(FourierClassifier(detrend=True), Xs, ys, cv=4)
     assert scores.min() == 1.0
     spreads = [0.05, 0.5, 5.0, 50.0]
     grid = GridSearchCV(
-        TentacleClassifier(), {"spread": spreads}, cv=3, scoring="neg_log_loss"
+        FourierClassifier(), {"spread": spreads}, cv=3, scoring="neg_log_loss"
     ).fit(Xs, ys)
     # kernels much wider than the gaps between classes flatten the probabilities:
     # the log-loss grows with the spread past the classes' scale
@@ -254,6 +254,6 @@ def test_tentacle_classifier_with_another_classifier():
     from sklearn.neighbors import KNeighborsClassifier
 
     X, y = thesis_tentacle(64, return_X_y=True)
-    clf = TentacleClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
+    clf = FourierClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
     assert clf.predict(np.roll(X, 7, axis=1)).tolist() == y.tolist()
     assert clf.transform(X).shape == (4, 32)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from sklearn.pipeline import make_pipeline
 
-from tentaclass.classifiers import PNNClassifier, RBFNetworkClassifier, TentacleClassifier
+from tentaclass.classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
 from tentaclass.errors import ModelFileError
 from tentaclass.features import FourierFeatures
@@ -25,12 +25,12 @@ def data():
 
 def fitted_models(X, y):
     return {
-        "tentacle-pnn": TentacleClassifier(spread=0.5, detrend=True).fit(X, y),
-        "tentacle-pnn-auto-f32": TentacleClassifier(
+        "tentacle-pnn": FourierClassifier(spread=0.5, detrend=True).fit(X, y),
+        "tentacle-pnn-auto-f32": FourierClassifier(
             classifier=PNNClassifier(spread="auto", dtype="float32", reject_below=1e-6)
         ).fit(X, y),
-        "tentacle-rbf": TentacleClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
-        "tentacle-rbf-forward": TentacleClassifier(
+        "tentacle-rbf": FourierClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
+        "tentacle-rbf-forward": FourierClassifier(
             normalize=True, classifier=RBFNetworkClassifier(centers="forward", n_centers=5)
         ).fit(X, y),
         "pipeline": make_pipeline(FourierFeatures(6), PNNClassifier(spread=0.3)).fit(X, y),
@@ -84,14 +84,14 @@ def test_labels_of_any_type(tmp_path, labels):
 
 def test_metadata_contents(tmp_path, data):
     X, y, _ = data
-    path = save_model(TentacleClassifier(spread=0.5).fit(X, y), tmp_path / "m.tcm")
+    path = save_model(FourierClassifier(spread=0.5).fit(X, y), tmp_path / "m.tcm")
     with zipfile.ZipFile(path) as zf:
         meta = json.loads(zf.read("metadata.json"))
         assert sorted(zf.namelist()) == ["class_count.npy", "metadata.json", "patterns.npy"]
         blob = zf.read("patterns.npy")
     assert meta["format"] == FORMAT_NAME == "tentaclass-model"
     assert meta["format_version"] == FORMAT_VERSION == 1
-    assert meta["estimator"] == "TentacleClassifier"
+    assert meta["estimator"] == "FourierClassifier"
     assert meta["classes"] == {
         "dtype": "<U9",
         "values": ["circle", "rectangle", "square", "triangle"],
@@ -119,7 +119,7 @@ def test_never_pickles(tmp_path, data):
 @pytest.fixture
 def good(tmp_path, data):
     X, y, _ = data
-    return save_model(TentacleClassifier(spread=0.5).fit(X, y), tmp_path / "good.tcm")
+    return save_model(FourierClassifier(spread=0.5).fit(X, y), tmp_path / "good.tcm")
 
 
 def rewrite(src, dst, meta_fn=None, members_fn=None):
@@ -274,21 +274,21 @@ def test_unsupported_estimators_are_refused(tmp_path, data):
     from sklearn.neighbors import KNeighborsClassifier
 
     X, y, _ = data
-    knn = TentacleClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
+    knn = FourierClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
     with pytest.raises(ValueError, match="KNeighborsClassifier"):
         save_model(knn, tmp_path / "k.tcm")
-    with pytest.raises(ValueError, match="TentacleClassifier"):
+    with pytest.raises(ValueError, match="FourierClassifier"):
         save_model(object(), tmp_path / "k.tcm")
     with pytest.raises(ValueError, match="unknown_label"):
         save_model(PNNClassifier(unknown_label=object()).fit(X, y), tmp_path / "k.tcm")
     from sklearn.exceptions import NotFittedError
 
     with pytest.raises(NotFittedError):
-        save_model(TentacleClassifier(), tmp_path / "k.tcm")
+        save_model(FourierClassifier(), tmp_path / "k.tcm")
 
 
 def test_thesis_model_round_trip_across_start_points(tmp_path):
     X, y = thesis_tentacle(64, return_X_y=True)
-    loaded = load_model(save_model(TentacleClassifier().fit(X, y), tmp_path / "t.tcm"))
+    loaded = load_model(save_model(FourierClassifier().fit(X, y), tmp_path / "t.tcm"))
     for k in range(0, 64, 7):
         assert loaded.predict(np.roll(X, k, axis=1)).tolist() == y.tolist()

@@ -11,7 +11,7 @@ from fastapi.testclient import TestClient
 from PIL import Image, ImageDraw
 
 from tentaclass import (
-    TentacleClassifier,
+    FourierClassifier,
     angles_to_points,
     grasp_state,
     load_model,
@@ -68,7 +68,7 @@ def test_page_recogniser_agrees_with_the_library(client):
     X = np.array(
         [points_to_angles(resample_closed(from_stroke(s, 256), N_LINKS)) for s in train.strokes]
     )
-    lib = TentacleClassifier(spread="auto", reject_below=1e-50).fit(X, train.target)
+    lib = FourierClassifier(spread="auto", reject_below=1e-50).fit(X, train.target)
     test = drawn_shapes(3, seed=99)
     for stroke in test.strokes:
         world = np.asarray(_world(stroke))

@@ -1,5 +1,6 @@
-"""Classifiers: PNN, RBF network, MLP presets, shift-invariant 1-NN, tentacle pipeline."""
+"""Classifiers: the default TentacleClassifier; the thesis pipeline, PNN, RBF, MLP, shift 1-NN."""
 
+from ._fourier import FourierClassifier
 from ._mlp import FixedEpochsMLPClassifier, modern_mlp, thesis_mlp
 from ._outline import OutlineClassifier
 from ._pnn import PNNClassifier
@@ -10,6 +11,7 @@ from ._tentacle import TentacleClassifier
 
 __all__ = [
     "FixedEpochsMLPClassifier",
+    "FourierClassifier",
     "OutlineClassifier",
     "PNNClassifier",
     "RBFNetworkClassifier",

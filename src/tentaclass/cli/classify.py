@@ -9,29 +9,29 @@ import numpy as np
 from sklearn.pipeline import Pipeline
 
 from .._validation import as_angle_array
-from ..classifiers import TentacleClassifier
+from ..classifiers import FourierClassifier
 from ..datasets import reference_tentacle
 from ..io import load_model
 from ..report import classification_table, table_to_json
 from .options import AngleList, dask_client, files_options, read_angle_file, scheduler_option
 
 
-def default_model(n_links: int) -> TentacleClassifier:
+def default_model(n_links: int) -> FourierClassifier:
     """The built-in model: the four thesis classes at ``n_links`` links."""
     X, y = reference_tentacle(n_links, return_X_y=True)
-    return TentacleClassifier(detrend=True, spread=0.5).fit(X, y)
+    return FourierClassifier(detrend=True, spread=0.5).fit(X, y)
 
 
-def model_from_file(path: Path) -> tuple[TentacleClassifier | Pipeline, int]:
+def model_from_file(path: Path) -> tuple[FourierClassifier | Pipeline, int]:
     """A model of joint angles from a ``.tcm`` file, and its chain length."""
     model = load_model(path)
-    if isinstance(model, TentacleClassifier):
+    if isinstance(model, FourierClassifier):
         return model, model.n_features_in_
     if isinstance(model, Pipeline):
         return model, model.steps[0][1].n_features_in_
     raise ValueError(
         f"{path}: holds a bare {type(model).__name__} of feature vectors; classify needs "
-        "a model of joint angles (from 'tentaclass train' or a TentacleClassifier)"
+        "a model of joint angles (from 'tentaclass train' or a FourierClassifier)"
     )
 
 

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from .._validation import as_angle_array
-from ..classifiers import RBFNetworkClassifier, TentacleClassifier
+from ..classifiers import FourierClassifier, RBFNetworkClassifier
 from ..io import save_model
 from .options import dask_client, parse_angle, predict_on, scheduler_option
 
@@ -177,9 +177,9 @@ def train(
     """
     X, y = read_training_file(data)
     if classifier == "pnn":
-        model = TentacleClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
+        model = FourierClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
     else:
-        model = TentacleClassifier(
+        model = FourierClassifier(
             n_coeffs=n_coeffs, detrend=detrend, classifier=RBFNetworkClassifier(spread=spread)
         )
     with dask_client(scheduler) as client:

@@ -5,6 +5,7 @@ from typing import TYPE_CHECKING
 from .._lazy import lazy_exports
 from .fourier import dft_layer, fourier_features
 from .lap import last_lap
+from .laps import LapSplit, split_laps
 from .outline import SIGNATURES, outline_to_series, znormalize
 from .turning import canonical_direction, periodic_signal, turning_function
 
@@ -22,6 +23,7 @@ __all__ = [
     "SIGNATURES",
     "AngleSpectrum",
     "FourierFeatures",
+    "LapSplit",
     "LastLap",
     "canonical_direction",
     "dft_layer",
@@ -29,6 +31,7 @@ __all__ = [
     "last_lap",
     "outline_to_series",
     "periodic_signal",
+    "split_laps",
     "turning_function",
     "znormalize",
 ]

@@ -9,7 +9,7 @@ A ``.tcm`` file is a zip archive holding
 - one ``<name>.npy`` member per array, written and read with
   ``allow_pickle=False``.
 
-Supported estimators, fitted: :class:`~tentaclass.classifiers.TentacleClassifier`
+Supported estimators, fitted: :class:`~tentaclass.classifiers.FourierClassifier`
 whose classifier is a PNN or an RBF network, a scikit-learn ``Pipeline`` of
 :class:`~tentaclass.features.FourierFeatures` and one of those, and a bare
 :class:`~tentaclass.classifiers.PNNClassifier` or
@@ -38,7 +38,7 @@ import numpy as np
 from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted
 
-from ..classifiers import PNNClassifier, RBFNetworkClassifier, TentacleClassifier
+from ..classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
 from ..errors import InputError, ModelFileError
 from ..features import FourierFeatures
 
@@ -53,7 +53,7 @@ FORMAT_VERSION = 1
 
 _METADATA = "metadata.json"
 _MAX_METADATA_BYTES = 16 * 2**20
-_KINDS = ("TentacleClassifier", "Pipeline", "PNNClassifier", "RBFNetworkClassifier")
+_KINDS = ("FourierClassifier", "Pipeline", "PNNClassifier", "RBFNetworkClassifier")
 _CLASSIFIER_ARRAYS = {
     "pnn": {"patterns": "f8", "class_count": "i8"},
     "rbf": {"centers": "f8", "coef": "f8", "intercept": "f8"},
@@ -166,8 +166,8 @@ def save_model(estimator: object, path: str | os.PathLike) -> Path:
 
     Parameters
     ----------
-    estimator : TentacleClassifier, Pipeline, PNNClassifier or RBFNetworkClassifier
-        Fitted. A ``TentacleClassifier`` must use a PNN or an RBF network; a
+    estimator : FourierClassifier, Pipeline, PNNClassifier or RBFNetworkClassifier
+        Fitted. A ``FourierClassifier`` must use a PNN or an RBF network; a
         ``Pipeline`` must be ``FourierFeatures`` followed by one of those.
     path : str or path-like
         Destination, overwritten if it exists (conventionally ``*.tcm``).
@@ -185,10 +185,10 @@ def save_model(estimator: object, path: str | os.PathLike) -> Path:
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from tentaclass.classifiers import TentacleClassifier
+    >>> from tentaclass.classifiers import FourierClassifier
     >>> from tentaclass.datasets import thesis_tentacle
     >>> X, y = thesis_tentacle(16, return_X_y=True)
-    >>> clf = TentacleClassifier(spread=0.5).fit(X, y)
+    >>> clf = FourierClassifier(spread=0.5).fit(X, y)
     >>> path = os.path.join(tempfile.mkdtemp(), "shapes.tcm")
     >>> loaded = load_model(save_model(clf, path))
     >>> bool(np.array_equal(loaded.predict_proba(X), clf.predict_proba(X)))
@@ -203,11 +203,11 @@ def save_model(estimator: object, path: str | os.PathLike) -> Path:
         "format_version": FORMAT_VERSION,
         "library_version": __version__,
     }
-    if isinstance(estimator, TentacleClassifier):
+    if isinstance(estimator, FourierClassifier):
         check_is_fitted(estimator)
         features = estimator.pipeline_.named_steps["features"]
         clf = estimator.pipeline_.named_steps["classifier"]
-        meta["estimator"] = "TentacleClassifier"
+        meta["estimator"] = "FourierClassifier"
         meta["tentacle_params"] = {
             "n_coeffs": _json_scalar(estimator.n_coeffs, "n_coeffs"),
             "detrend": bool(estimator.detrend),
@@ -231,7 +231,7 @@ def save_model(estimator: object, path: str | os.PathLike) -> Path:
         meta["estimator"] = type(estimator).__name__
     else:
         raise InputError(
-            "save_model supports TentacleClassifier, Pipeline(FourierFeatures, classifier), "
+            "save_model supports FourierClassifier, Pipeline(FourierFeatures, classifier), "
             f"PNNClassifier and RBFNetworkClassifier, got {type(estimator).__name__}"
         )
     meta["features"] = None if features is None else _features_record(features)
@@ -414,7 +414,7 @@ def load_model(path: str | os.PathLike) -> object:
 
     Returns
     -------
-    estimator : TentacleClassifier, Pipeline, PNNClassifier or RBFNetworkClassifier
+    estimator : FourierClassifier, Pipeline, PNNClassifier or RBFNetworkClassifier
         Fitted, predicting exactly as the saved one did.
 
     Raises
@@ -509,8 +509,8 @@ def _build(meta: dict, arrays: dict[str, np.ndarray]) -> object:
         "reject_below": _field(tp, "reject_below", (int, float, type(None)), where),
     }
     if not custom and not isinstance(clf, PNNClassifier):
-        raise ModelFileError("metadata: a TentacleClassifier without custom classifier uses a PNN")
-    model = TentacleClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
+        raise ModelFileError("metadata: a FourierClassifier without custom classifier uses a PNN")
+    model = FourierClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
     model.pipeline_ = Pipeline([("features", features), ("classifier", clf)])
     model.classes_ = clf.classes_
     model.n_features_in_ = features.n_features_in_

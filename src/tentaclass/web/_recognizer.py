@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import TentacleClassifier, points_to_angles, resample_closed, save_model
+from .. import FourierClassifier, points_to_angles, resample_closed, save_model
 from .._typing import ArrayLike, FloatArray
 from ..datasets import drawn_shapes
 from ..errors import InputError
@@ -39,10 +39,10 @@ _COPIES = 8
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9 _-]{0,39}$")
 
 
-def build_model() -> TentacleClassifier:
+def build_model() -> FourierClassifier:
     """The unfitted classifier behind the page: the one place to change it.
 
-    A :class:`~tentaclass.TentacleClassifier` (Fourier features of the joint
+    A :class:`~tentaclass.FourierClassifier` (Fourier features of the joint
     angles, a PNN with its kernel width chosen on the training set) that
     answers ``"unknown"`` when the best class's mean kernel value is below
     ``1e-50``: far from every drawn example of every class.
@@ -52,7 +52,7 @@ def build_model() -> TentacleClassifier:
     >>> build_model().reject_below
     1e-50
     """
-    return TentacleClassifier(spread="auto", reject_below=1e-50)
+    return FourierClassifier(spread="auto", reject_below=1e-50)
 
 
 def outline_angles(outline: ArrayLike) -> FloatArray:
