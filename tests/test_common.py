@@ -108,7 +108,7 @@ def expected_failed_checks(estimator):
         if estimator.closure == "chord":
             return dict.fromkeys(_CHORD_CHECKS, _CHORD)
         return {"check_classifiers_train": _INVARIANT_FEATURES}
-    if isinstance(estimator, TentacleClassifier | FourierClassifier):
+    if isinstance(estimator, FourierClassifier):
         return {"check_classifiers_train": _INVARIANT_FEATURES}
     return {}
 
