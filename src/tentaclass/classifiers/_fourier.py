@@ -116,12 +116,15 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
 
     def transform(self, X: ArrayLike) -> FloatArray:
         """Feature vectors of joint-angle arrays, shape (n_samples, n_coeffs)."""
-        return self.pipeline_.named_steps["features"].transform(self._checked(X))
+        X = self._checked(X)
+        return self.pipeline_.named_steps["features"].transform(X)
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of each joint-angle array, shape (n_samples,)."""
-        return self.pipeline_.predict(self._checked(X))
+        X = self._checked(X)
+        return self.pipeline_.predict(X)
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Class probabilities, shape (n_samples, n_classes); rows sum to 1."""
-        return self.pipeline_.predict_proba(self._checked(X))
+        X = self._checked(X)
+        return self.pipeline_.predict_proba(X)
