@@ -11,7 +11,7 @@ from tentaclass.classifiers import PNNClassifier, RBFNetworkClassifier, Tentacle
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
 from tentaclass.errors import ModelFileError
 from tentaclass.features import FourierFeatures
-from tentaclass.io import load_model, save_model
+from tentaclass.io import load_model, model_info, save_model
 from tentaclass.io._model_file import FORMAT_NAME, FORMAT_VERSION
 
 
@@ -84,24 +84,35 @@ def test_labels_of_any_type(tmp_path, labels):
 
 def test_metadata_contents(tmp_path, data):
     X, y, _ = data
-    path = save_model(TentacleClassifier(spread=0.5).fit(X, y), tmp_path / "m.tcm")
+    model = TentacleClassifier(spread=0.5).fit(X, y)
+    path = save_model(model, tmp_path / "m.tcm", info={"chain": {"n_links": 32}})
     with zipfile.ZipFile(path) as zf:
         meta = json.loads(zf.read("metadata.json"))
-        assert sorted(zf.namelist()) == ["class_count.npy", "metadata.json", "patterns.npy"]
-        blob = zf.read("patterns.npy")
+        names = sorted(zf.namelist())
+        blobs = {n: zf.read(n) for n in names}
     assert meta["format"] == FORMAT_NAME == "tentaclass-model"
-    assert meta["format_version"] == FORMAT_VERSION == 1
-    assert meta["estimator"] == "TentacleClassifier"
-    assert meta["classes"] == {
-        "dtype": "<U9",
-        "values": ["circle", "rectangle", "square", "triangle"],
-    }
-    assert meta["features"]["n_features_in"] == 32 and meta["features"]["n_coeffs_"] == 16
-    assert meta["classifier"]["kind"] == "pnn"
-    assert meta["classifier"]["params"]["spread"] == 0.5
-    assert meta["arrays"]["patterns"]["shape"] == [16, 16]
-    assert meta["arrays"]["patterns"]["sha256"] == hashlib.sha256(blob).hexdigest()
+    assert meta["format_version"] == FORMAT_VERSION == 2
     assert isinstance(meta["library_version"], str)
+    assert meta["info"] == {"chain": {"n_links": 32}}
+    tree = meta["estimator"]
+    assert tree["__estimator__"] == "TentacleClassifier"
+    assert tree["params"]["spread"] == 0.5 and tree["params"]["classifier"] is None
+    pipe = tree["state"]["pipeline_"]
+    assert pipe["__estimator__"] == "Pipeline"
+    steps = pipe["params"]["steps"]
+    assert [s["__tuple__"][1]["__estimator__"] for s in steps] == [
+        "FourierFeatures",
+        "PNNClassifier",
+    ]
+    pnn = steps[1]["__tuple__"][1]["state"]
+    assert pnn["spread_"] == 0.5 and "_pt" not in pnn  # caches are rebuilt, not stored
+    patterns = meta["arrays"][pnn["patterns_"]["__array__"]]
+    assert patterns["shape"] == [16, 16] and patterns["dtype"] == "<f8"
+    member = pnn["patterns_"]["__array__"] + ".npy"
+    assert patterns["sha256"] == hashlib.sha256(blobs[member]).hexdigest()
+    assert names == sorted(["metadata.json", *(f"{n}.npy" for n in meta["arrays"])])
+    info = model_info(path)
+    assert info["chain"] == {"n_links": 32} and info["estimator"] == "TentacleClassifier"
 
 
 def test_never_pickles(tmp_path, data):
@@ -198,60 +209,128 @@ def test_flipped_bytes_anywhere_are_caught(tmp_path, good):
         np.testing.assert_array_equal(model.predict_proba(X), load_model(good).predict_proba(X))
 
 
+def _pnn_node(meta):
+    """The PNN's record inside a saved TentacleClassifier's tree."""
+    return meta["estimator"]["state"]["pipeline_"]["params"]["steps"][1]["__tuple__"][1]
+
+
+def _features_node(meta):
+    return meta["estimator"]["state"]["pipeline_"]["params"]["steps"][0]["__tuple__"][1]
+
+
+def _array_name(meta, attribute):
+    return _pnn_node(meta)["state"][attribute]["__array__"]
+
+
+def _replace_array(members, name, arr):
+    buf = io.BytesIO()
+    np.lib.format.write_array(buf, arr, allow_pickle=arr.dtype.kind == "O")
+    members[f"{name}.npy"] = buf.getvalue()
+    m = json.loads(members["metadata.json"])
+    m["arrays"][name].update(
+        sha256=hashlib.sha256(buf.getvalue()).hexdigest(), dtype=arr.dtype.str
+    )
+    members["metadata.json"] = json.dumps(m).encode()
+
+
 def test_checksum_mismatch(tmp_path, good):
     def tamper(members):
-        arr = np.lib.format.read_array(io.BytesIO(members["patterns.npy"]))
+        name = _array_name(json.loads(members["metadata.json"]), "patterns_")
+        arr = np.lib.format.read_array(io.BytesIO(members[f"{name}.npy"]))
         arr[0, 0] += 1.0
         buf = io.BytesIO()
         np.lib.format.write_array(buf, arr)
-        members["patterns.npy"] = buf.getvalue()
+        members[f"{name}.npy"] = buf.getvalue()
 
-    with pytest.raises(ModelFileError, match="checksum mismatch for array 'patterns'"):
+    with pytest.raises(ModelFileError, match="checksum mismatch for array 'a"):
         load_model(rewrite(good, tmp_path / "x.tcm", members_fn=tamper))
+
+
+def _set_class(meta, name):
+    meta["estimator"]["__estimator__"] = name
+
+
+def _array_spec(meta, attribute):
+    return meta["arrays"][_array_name(meta, attribute)]
 
 
 @pytest.mark.parametrize(
     "edit, match",
     [
-        (lambda m: m.update(format_version=2), "newer than this tentaclass reads"),
+        (lambda m: m.update(format_version=3), "newer than this tentaclass reads"),
         (lambda m: m.update(format_version=0), "unknown format version 0"),
-        (lambda m: m.update(format_version="1"), "unknown format version"),
+        (lambda m: m.update(format_version="2"), "unknown format version"),
         (lambda m: m.pop("format_version"), "unknown format version None"),
         (lambda m: m.update(format="something-else"), "not a tentaclass model file"),
-        (lambda m: m.update(estimator="SVC"), "unknown estimator kind 'SVC'"),
-        (lambda m: m["classifier"].update(kind="svm"), "unknown classifier kind"),
-        (lambda m: m["classes"].update(values=["a", "a", "b", "c"]), "repeat"),
-        (lambda m: m["classes"].update(dtype="<M8[s]"), "classes dtype"),
-        (lambda m: m["classes"].update(values=["a"]), "at least 2"),
-        (lambda m: m["classifier"]["fitted"].update(spread_=-1.0), "spread_"),
-        (lambda m: m["classifier"]["params"].update(spread=-1.0), "bad pnn parameters"),
-        (lambda m: m["classifier"]["params"].update(bogus=1), "bad pnn parameters"),
-        (lambda m: m["features"].update(n_coeffs_=99), "do not fit"),
-        (lambda m: m["features"].pop("detrend"), "missing field features.'detrend'"),
-        (lambda m: m["arrays"]["patterns"].update(shape=[3, 3]), "metadata says"),
-        (lambda m: m["arrays"].pop("class_count"), "do not match the metadata"),
-        (lambda m: m["tentacle_params"].update(detrend="yes"), "wrong type"),
+        (lambda m: _set_class(m, "SVC"), "'SVC', which is not an estimator"),
+        (lambda m: _set_class(m, "os.system"), "not an estimator model files may hold"),
+        (lambda m: _set_class(m, "BaseEstimator"), "not an estimator model files may hold"),
+        (lambda m: _pnn_node(m).update(__estimator__="subprocess.Popen"), "not an estimator"),
+        (lambda m: _pnn_node(m)["state"].update(spread_=-1.0), "spread_"),
+        (lambda m: _pnn_node(m)["params"].update(spread=-1.0), "spread"),
+        (lambda m: _pnn_node(m)["params"].update(bogus=1), "bad PNNClassifier parameters"),
+        (lambda m: _pnn_node(m)["params"].pop("spread"), "parameters"),
+        (lambda m: _pnn_node(m)["params"].update(dtype={"names": ["a"]}), "one known tag"),
+        (
+            lambda m: _pnn_node(m)["params"].update(dtype={"__dtype__": {"names": ["a"]}}),
+            "must be a dtype string, got dict",
+        ),
+        (lambda m: _pnn_node(m)["params"].update(dtype={"__dtype__": "O"}), "not allowed"),
+        (lambda m: _pnn_node(m)["params"].update(dtype="complex64"), "dtype"),
+        (lambda m: _pnn_node(m)["state"].update(__class__=1), "cannot have the attribute"),
+        (lambda m: _pnn_node(m)["state"].update(predict=1), "cannot have the attribute"),
+        (lambda m: _pnn_node(m)["state"].update(_pt=1), "cannot have the attribute"),
+        (lambda m: _pnn_node(m)["state"].pop("patterns_"), "patterns_"),
+        (lambda m: _features_node(m)["state"].update(n_coeffs_=99), None),
+        (
+            lambda m: _array_spec(m, "patterns_").update(dtype={"descr": "<f8"}),
+            "must be a dtype string, got dict",
+        ),
+        (lambda m: _array_spec(m, "patterns_").update(dtype=["<f8"]), "dtype string, got list"),
+        (lambda m: _array_spec(m, "patterns_").update(dtype="|O"), "not allowed"),
+        (lambda m: _array_spec(m, "patterns_").update(dtype="<M8[s]"), "not allowed"),
+        (lambda m: _array_spec(m, "patterns_").update(dtype="pickle"), "not a dtype"),
+        (lambda m: _array_spec(m, "patterns_").update(shape=[3, 3]), "metadata says"),
+        (lambda m: m["arrays"].pop(_array_name(m, "class_count_")), "do not match the metadata"),
+        (
+            lambda m: _pnn_node(m)["state"].update(class_count_=_pnn_node(m)["state"]["patterns_"]),
+            "used twice",
+        ),
+        (lambda m: _pnn_node(m)["state"].update(spread_={"__float__": "1e9"}), "nan, inf"),
+        (lambda m: _pnn_node(m)["state"].update(spread_={"__tuple__": [], "x": 1}), "unknown"),
+        (lambda m: _pnn_node(m)["state"].update(spread_={"__scalar__": [1], "dtype": "<f8"}), "scalar"),
+        (lambda m: m["estimator"]["params"].update(detrend={"__dict__": 5}), "wrong type"),
+        (lambda m: m.update(info=[1]), "info must be an object"),
     ],
 )
 def test_bad_metadata(tmp_path, good, edit, match):
+    bad = rewrite(good, tmp_path / "x.tcm", meta_fn=edit)
+    if match is None:  # a change that predicts wrongly must at least fail cleanly or agree
+        try:
+            model = load_model(bad)
+        except ModelFileError:
+            return
+        X, _ = reference_tentacle(32, n_starts=4, return_X_y=True)
+        with pytest.raises(ValueError):
+            model.predict_proba(X)
+        return
     with pytest.raises(ModelFileError, match=match):
-        load_model(rewrite(good, tmp_path / "x.tcm", meta_fn=edit))
+        load_model(bad)
+
+
+def test_deeply_nested_metadata_is_refused(tmp_path, good):
+    deep = None
+    for _ in range(200):
+        deep = [deep]
+    bad = rewrite(good, tmp_path / "x.tcm", meta_fn=lambda m: _pnn_node(m)["state"].update(x_=deep))
+    with pytest.raises(ModelFileError, match="nested too deeply"):
+        load_model(bad)
 
 
 def test_inconsistent_arrays(tmp_path, good):
     def tamper(members):
-        counts = np.array([4, 4, 4, 5])
-        buf = io.BytesIO()
-        np.lib.format.write_array(buf, counts)
-        members["class_count.npy"] = buf.getvalue()
-
-        def meta(m):
-            m["arrays"]["class_count"]["sha256"] = hashlib.sha256(buf.getvalue()).hexdigest()
-            m["arrays"]["class_count"]["dtype"] = counts.dtype.str
-
-        m = json.loads(members["metadata.json"])
-        meta(m)
-        members["metadata.json"] = json.dumps(m).encode()
+        name = _array_name(json.loads(members["metadata.json"]), "class_count_")
+        _replace_array(members, name, np.array([4, 4, 4, 5]))
 
     with pytest.raises(ModelFileError, match="inconsistent"):
         load_model(rewrite(good, tmp_path / "x.tcm", members_fn=tamper))
@@ -259,32 +338,131 @@ def test_inconsistent_arrays(tmp_path, good):
 
 def test_pickled_array_is_refused(tmp_path, good):
     def tamper(members):
-        buf = io.BytesIO()
-        np.lib.format.write_array(buf, np.array([{"a": 1}], dtype=object), allow_pickle=True)
-        members["class_count.npy"] = buf.getvalue()
-        m = json.loads(members["metadata.json"])
-        m["arrays"]["class_count"]["sha256"] = hashlib.sha256(buf.getvalue()).hexdigest()
-        members["metadata.json"] = json.dumps(m).encode()
+        name = _array_name(json.loads(members["metadata.json"]), "class_count_")
+        _replace_array(members, name, np.array([{"a": 1}], dtype=object))
 
-    with pytest.raises(ModelFileError, match=r"not a valid \.npy"):
+    with pytest.raises(ModelFileError, match="not allowed"):
         load_model(rewrite(good, tmp_path / "x.tcm", members_fn=tamper))
 
 
 def test_unsupported_estimators_are_refused(tmp_path, data):
-    from sklearn.neighbors import KNeighborsClassifier
+    from sklearn.exceptions import NotFittedError
+    from sklearn.svm import SVC
 
     X, y, _ = data
-    knn = TentacleClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
-    with pytest.raises(ValueError, match="KNeighborsClassifier"):
-        save_model(knn, tmp_path / "k.tcm")
-    with pytest.raises(ValueError, match="TentacleClassifier"):
+    svc = TentacleClassifier(classifier=SVC()).fit(X, y)
+    with pytest.raises(ValueError, match="cannot save a SVC"):
+        save_model(svc, tmp_path / "k.tcm")
+    with pytest.raises(ValueError, match="cannot save a object"):
         save_model(object(), tmp_path / "k.tcm")
     with pytest.raises(ValueError, match="unknown_label"):
         save_model(PNNClassifier(unknown_label=object()).fit(X, y), tmp_path / "k.tcm")
-    from sklearn.exceptions import NotFittedError
-
     with pytest.raises(NotFittedError):
         save_model(TentacleClassifier(), tmp_path / "k.tcm")
+    with pytest.raises(ValueError, match="info"):
+        save_model(PNNClassifier().fit(X, y), tmp_path / "k.tcm", info={"x": float("nan")})
+
+
+class _Subclass(PNNClassifier):
+    pass
+
+
+def test_subclasses_of_allowed_estimators_are_refused(tmp_path, data):
+    X, y, _ = data
+    with pytest.raises(ValueError, match="cannot save a _Subclass"):
+        save_model(_Subclass().fit(X, y), tmp_path / "k.tcm")
+
+
+def test_any_estimator_tree_round_trips(tmp_path, data):
+    import warnings
+
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.neighbors import KNeighborsClassifier
+    from sklearn.pipeline import make_union
+    from sklearn.preprocessing import StandardScaler
+
+    from tentaclass.classifiers import ShiftNNClassifier, modern_mlp, thesis_mlp
+    from tentaclass.features import AngleSpectrum, LastLap
+
+    X, y, T = data
+    models = [
+        ShiftNNClassifier(),
+        make_pipeline(LastLap(), ShiftNNClassifier(signal="shape")),
+        make_pipeline(
+            make_union(AngleSpectrum(), make_pipeline(LastLap(16), FourierFeatures())),
+            StandardScaler(),
+            PNNClassifier(spread="auto"),
+        ),
+        make_pipeline(FourierFeatures(), modern_mlp(random_state=0, early_stopping=False)),
+        make_pipeline(FourierFeatures(), thesis_mlp(random_state=0)),
+        make_pipeline(FourierFeatures(), LogisticRegression()),
+        TentacleClassifier(classifier=KNeighborsClassifier(1)),
+    ]
+    for model in models:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # MLPs stopped after a few epochs
+            model.fit(X, y)
+        loaded = load_model(save_model(model, tmp_path / "m.tcm"))
+        np.testing.assert_array_equal(loaded.predict(T), model.predict(T))
+        if hasattr(model, "predict_proba"):
+            np.testing.assert_array_equal(loaded.predict_proba(T), model.predict_proba(T))
+
+
+def test_numpy_values_keep_their_types(tmp_path, data):
+    X, y, _ = data
+    model = PNNClassifier(dtype=np.float32, unknown_label=np.int16(-1)).fit(X, y)
+    model.extra_ = {"a": (np.float32(0.5), float("inf")), "b": [np.arange(3), "x"]}
+    loaded = load_model(save_model(model, tmp_path / "m.tcm"))
+    assert loaded.dtype == np.float32 and type(loaded.unknown_label) is np.int16
+    a, b = loaded.extra_["a"], loaded.extra_["b"]
+    assert type(a) is tuple and type(a[0]) is np.float32 and a[1] == float("inf")
+    np.testing.assert_array_equal(b[0], np.arange(3))
+
+
+@pytest.mark.parametrize("kind", ["pnn", "rbf"])
+def test_version_1_files_are_still_read(kind):
+    from pathlib import Path
+
+    here = Path(__file__).parent / "data"
+    model = load_model(here / f"v1-tentacle-{kind}.tcm")
+    X, _ = reference_tentacle(16, n_starts=2, return_X_y=True)
+    np.testing.assert_array_equal(
+        model.predict_proba(X), np.load(here / f"v1-tentacle-{kind}-proba.npy")
+    )
+    assert model_info(here / f"v1-tentacle-{kind}.tcm")["format_version"] == 1
+
+
+@pytest.mark.parametrize(
+    "edit, match",
+    [
+        (lambda m: m.update(estimator="SVC"), "unknown estimator kind 'SVC'"),
+        (lambda m: m["classifier"].update(kind="svm"), "unknown classifier kind"),
+        (lambda m: m["classes"].update(values=["a", "a", "b", "c"]), "repeat"),
+        (lambda m: m["classes"].update(dtype="<M8[s]"), "classes dtype"),
+        (lambda m: m["classes"].update(dtype={"a": 1}), "wrong type"),
+        (lambda m: m["classes"].update(values=["a"]), "at least 2"),
+        (lambda m: m["classifier"]["fitted"].update(spread_=-1.0), "spread_"),
+        (lambda m: m["classifier"]["params"].update(spread=-1.0), "bad pnn parameters"),
+        (lambda m: m["classifier"]["params"].update(bogus=1), "bad pnn parameters"),
+        (lambda m: m["classifier"]["params"].update(dtype={"a": 1}), "bad pnn parameters"),
+        (
+            lambda m: m["classifier"]["params"].update(dtype={"names": ["a"], "formats": ["f8"]}),
+            "bad pnn parameters",
+        ),
+        (lambda m: m["features"].update(n_coeffs_=99), "do not fit"),
+        (lambda m: m["features"].pop("detrend"), "missing field features.'detrend'"),
+        (lambda m: m["arrays"]["patterns"].update(shape=[3, 3]), "metadata says"),
+        (lambda m: m["arrays"]["patterns"].update(dtype={"a": 1}), "dtype string, got dict"),
+        (lambda m: m["arrays"].pop("class_count"), "do not match the metadata"),
+        (lambda m: m["tentacle_params"].update(detrend="yes"), "wrong type"),
+    ],
+)
+def test_bad_version_1_metadata(tmp_path, edit, match):
+    from pathlib import Path
+
+    good = Path(__file__).parent / "data" / "v1-tentacle-pnn.tcm"
+    with pytest.raises(ModelFileError, match=match):
+        load_model(rewrite(good, tmp_path / "x.tcm", meta_fn=edit))
 
 
 def test_thesis_model_round_trip_across_start_points(tmp_path):
