@@ -2,11 +2,12 @@
 
 from ._thesis import THESIS_CLASSES, reference_tentacle, thesis_scanner, thesis_tentacle
 from ._ucr import UCR_SHAPES, ucr_shapes
-from ._wraps import mpeg7_tentacle, synthetic_tentacle
+from ._wraps import chain_wraps, mpeg7_tentacle, synthetic_tentacle
 
 __all__ = [
     "THESIS_CLASSES",
     "UCR_SHAPES",
+    "chain_wraps",
     "mpeg7_tentacle",
     "reference_tentacle",
     "synthetic_tentacle",
