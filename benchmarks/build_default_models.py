@@ -3,7 +3,7 @@
 Deterministic: the same code gives the same files. For each chain length,
 wraps of the four thesis classes (square, circle, equilateral triangle,
 rectangles of aspect 2-4) by one chain of unit links are generated with
-``tentaclass.datasets.chain_wraps`` (0.8-3.2 laps, a stand-off of 0-3.5
+``tentaclass.datasets.chain_wraps`` (0.45-3.2 laps, a stand-off of 0-3.5
 links, joint noise up to 0.025 rad, random rotation, start and direction,
 taut and hug), a recogniser is trained on them, and a rejection threshold is
 set on a held-out set of wraps (1 % false rejections).
@@ -31,7 +31,7 @@ LINKS = (16, 32, 40, 64)
 OUT = Path(__file__).resolve().parents[1] / "src" / "tentaclass" / "data"
 SETTINGS = {
     "link_length": 1.0,
-    "laps": (0.8, 3.2),
+    "laps": (0.45, 3.2),
     "offset_links": (0.0, 3.5),
     "noise": (0.0, 0.025),
     "mode": "both",

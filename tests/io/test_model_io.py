@@ -470,3 +470,38 @@ def test_thesis_model_round_trip_across_start_points(tmp_path):
     loaded = load_model(save_model(TentacleClassifier().fit(X, y), tmp_path / "t.tcm"))
     for k in range(0, 64, 7):
         assert loaded.predict(np.roll(X, k, axis=1)).tolist() == y.tolist()
+
+
+def test_bundled_models_and_their_errors():
+    from tentaclass.errors import InputError
+    from tentaclass.io import bundled_links, bundled_model
+
+    links = bundled_links()
+    assert {16, 40} <= set(links)
+    with pytest.raises(InputError, match=r"no bundled model for a chain of 17 links: .*16"):
+        bundled_model(17)
+    model, info = bundled_model(16)
+    assert info["chain"]["n_links"] == 16 == model.n_features_in_
+    assert model_info(files_of("default-16.tcm"))["format_version"] == FORMAT_VERSION
+
+
+def files_of(name):
+    from importlib.resources import files
+
+    return files("tentaclass.data") / name
+
+
+def test_best_class_score_needs_class_scores(data):
+    from sklearn.linear_model import LogisticRegression
+
+    from tentaclass.errors import InputError
+    from tentaclass.io import best_class_score
+
+    X, y, T = data
+    pnn = TentacleClassifier(spread=0.5).fit(X, y)
+    scores = best_class_score(pnn, T)
+    np.testing.assert_allclose(
+        scores, pnn.pipeline_[-1].class_scores(pnn.transform(T)).max(axis=1)
+    )
+    with pytest.raises(InputError, match="LogisticRegression"):
+        best_class_score(TentacleClassifier(classifier=LogisticRegression()).fit(X, y), T)

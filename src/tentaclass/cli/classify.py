@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -40,12 +41,12 @@ def model_from_file(path: Path) -> tuple[Any, dict]:
 
 
 def _read_stdin() -> np.ndarray:
-    stream = click.get_text_stream("stdin")
-    if stream.isatty():
-        raise click.UsageError("give either ANGLES or --file, or pipe angle arrays into stdin")
+    stream = sys.stdin
+    if stream is None or stream.isatty():
+        raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
     lines = stream.read().splitlines()
     if not any(line.split("#", 1)[0].strip() for line in lines):
-        raise click.UsageError("give either ANGLES or --file, or pipe angle arrays into stdin")
+        raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
     return parse_angle_rows(lines, "standard input")
 
 
@@ -145,9 +146,7 @@ def classify(
     if reject or reject_below is not None:
         threshold = reject_below if reject_below is not None else info.get("reject_below")
         if not isinstance(threshold, int | float):
-            raise click.UsageError(
-                f"{name} has no rejection threshold of its own: give --reject-below"
-            )
+            raise ValueError(f"{name} has no rejection threshold of its own: give --reject-below")
         labels[best_class_score(model, X) < threshold] = "unknown"
     table = classification_table(labels, proba, model.classes_)
     if as_json:

@@ -201,17 +201,17 @@ def _outline_files(patterns: tuple[str, ...]) -> list[Path]:
     return found
 
 
-def _pair(text: str | None, name: str, default: tuple[float, float] | None):
+def _pair(text: str | None, name: str, default: tuple[float, float] | None, one_is_max=False):
     if text is None:
         return default
     try:
         values = [float(t) for t in text.replace(",", " ").split()]
     except ValueError:
-        raise click.BadParameter(f"{text!r} is not a number or MIN,MAX", param_hint=name) from None
+        raise ValueError(f"{name}: {text!r} is not a number or MIN,MAX") from None
     if len(values) == 1:
-        values = values * 2
+        values = [0.0, values[0]] if one_is_max else values * 2
     if len(values) != 2 or not all(np.isfinite(values)) or values[0] > values[1]:
-        raise click.BadParameter(f"expected MIN,MAX with MIN <= MAX, got {text!r}", param_hint=name)
+        raise ValueError(f"{name}: expected MIN,MAX with MIN <= MAX, got {text!r}")
     return values[0], values[1]
 
 
@@ -415,18 +415,18 @@ def train(
     Use the model with "tentaclass classify --model FILE".
     """
     if (data is None) == (not outlines):
-        raise click.UsageError("give either --data or --outlines")
+        raise ValueError("give either --data or --outlines")
     if data is not None:
         _train_on_arrays(data, out, classifier, spread, n_coeffs, detrend)
         return
     if n_links is None:
-        raise click.UsageError("--outlines needs --links (the chain's number of links)")
+        raise ValueError("--outlines needs --links (the chain's number of links)")
     if laps_text is not None and diameters_text is not None:
-        raise click.UsageError("give either --laps or --diameters, not both")
+        raise ValueError("give either --laps or --diameters, not both")
     diameters = _pair(diameters_text, "--diameters", None)
     laps = None if diameters is not None else _pair(laps_text, "--laps", (1.0, 2.0))
     offset = _pair(offset_text, "--offset", (0.0, 2.0))
-    noise = _pair(noise_text, "--noise", (0.0, 0.0))
+    noise = _pair(noise_text, "--noise", (0.0, 0.0), one_is_max=True)
     files = _outline_files(outlines)
     if labels_file is not None:
         table = read_labels(labels_file)
