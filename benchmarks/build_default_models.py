@@ -68,11 +68,39 @@ def recogniser():
     return make_pipeline(features, StandardScaler(), PNNClassifier(spread="auto"))
 
 
+def training_wraps(outlines, n_links: int, n_wraps: int, seed: int):
+    """Half the wraps at stand-offs drawn from the range, half at whole links.
+
+    A base standing exactly on the object or a whole number of links away
+    gives arrays of their own (no short first link), so those are drawn too.
+    """
+    from sklearn.utils import Bunch
+
+    parts = [chain_wraps(outlines, n_links, n_wraps=n_wraps // 2, random_state=seed, **SETTINGS)]
+    whole = [k for k in range(int(SETTINGS["offset_links"][1]) + 1)]
+    for k in whole:
+        settings = {**SETTINGS, "offset_links": (float(k), float(k))}
+        parts.append(
+            chain_wraps(
+                outlines,
+                n_links,
+                n_wraps=max(1, n_wraps // (2 * len(whole))),
+                random_state=seed + 100 + k,
+                **settings,
+            )
+        )
+    return Bunch(
+        data=np.concatenate([p.data for p in parts]),
+        outline=np.concatenate([p.outline for p in parts]),
+        n_failed=sum(p.n_failed for p in parts),
+    )
+
+
 def build(n_links: int, seed: int = 0):
     """Model and info for one chain length."""
     outlines, labels = thesis_outlines()
     n_wraps = PER_CLASS.get(n_links, DEFAULT_PER_CLASS) // 5  # 5 outlines per class
-    train = chain_wraps(outlines, n_links, n_wraps=n_wraps, random_state=seed, **SETTINGS)
+    train = training_wraps(outlines, n_links, n_wraps, seed)
     model = recogniser().fit(train.data, labels[train.outline])
     held = chain_wraps(outlines, n_links, n_wraps=10, random_state=seed + 1, **SETTINGS)
     accuracy = float(np.mean(model.predict(held.data) == labels[held.outline]))

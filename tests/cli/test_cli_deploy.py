@@ -41,8 +41,25 @@ def wrap_then_classify(*wrap_args, classify_args=()):
         (["--shape", "triangle", "--laps", "1.5"], "TRIANGLE"),
         # the README and docs/wrapping.md examples
         (["--shape", "square", "--size", "4", "--links", "16", "--link-length", "1"], "SQUARE"),
-        (["--shape", "rectangle", "--size", "6,2", "--links", "40", "--laps", "2", "--offset",
-          "2", "--noise", "0.01", "--seed", "1"], "RECTANGLE"),  # fmt: skip
+        (
+            [
+                "--shape",
+                "rectangle",
+                "--size",
+                "6,2",
+                "--links",
+                "40",
+                "--laps",
+                "2",
+                "--offset",
+                "2",
+                "--noise",
+                "0.01",
+                "--seed",
+                "1",
+            ],
+            "RECTANGLE",
+        ),
         (["--shape", "circle", "--links", "16", "--laps", "2", "--offset", "1"], "CIRCLE"),
     ],
 )
@@ -81,8 +98,10 @@ def test_bundled_model_over_the_documented_range(n_links):
 @pytest.mark.parametrize("n_links", [16, 40])
 def test_bundled_models_cover_the_example_chains(n_links):
     assert n_links in bundled_links()
-    info = model_info(__import__("importlib.resources").resources.files("tentaclass.data")
-                      / f"default-{n_links}.tcm")  # fmt: skip
+    info = model_info(
+        __import__("importlib.resources").resources.files("tentaclass.data")
+        / f"default-{n_links}.tcm"
+    )
     assert info["chain"]["n_links"] == n_links
     assert info["classes"] == ["circle", "rectangle", "square", "triangle"]
     assert 0 < info["reject_below"] < 1
@@ -108,8 +127,10 @@ def test_reject_says_unknown_outside_the_classes():
     assert [line.split()[1] for line in r.stdout.splitlines()[1:]] == ["unknown", "unknown"]
     # the thesis shapes are kept
     assert wrap_then_classify("--shape", "triangle", classify_args=["--reject"]) == "TRIANGLE"
-    assert wrap_then_classify("--shape", "square", "--laps", "1.3",
-                              classify_args=["--reject"]) == "SQUARE"  # fmt: skip
+    assert (
+        wrap_then_classify("--shape", "square", "--laps", "1.3", classify_args=["--reject"])
+        == "SQUARE"
+    )
 
 
 def test_json_from_stdin_and_unknown_label():
@@ -141,8 +162,9 @@ def test_model_of_another_chain_length(tmp_path):
     from tentaclass.io import save_model
 
     X, y = reference_tentacle(16, return_X_y=True)
-    path = save_model(TentacleClassifier().fit(X, y), tmp_path / "robot.tcm",
-                      info={"chain": {"n_links": 16}})  # fmt: skip
+    path = save_model(
+        TentacleClassifier().fit(X, y), tmp_path / "robot.tcm", info={"chain": {"n_links": 16}}
+    )
     r = run("classify", "--model", path, " ".join(["pi/10"] * 20))
     one_line_error(r, "robot.tcm was trained for a chain of 16 links; these arrays have 20")
 
@@ -184,9 +206,23 @@ def outline_files(tmp_path):
 
 def test_train_for_a_chain_then_classify(tmp_path, outline_files):
     out = tmp_path / "robot.tcm"
-    r = run("train", "--outlines", str(outline_files / "*"), "--links", 20, "--link-length",
-            0.5, "--wraps-per-outline", 30, "--laps", "1,1.8", "--noise", "0.01",
-            "--out", out)  # fmt: skip
+    r = run(
+        "train",
+        "--outlines",
+        str(outline_files / "*"),
+        "--links",
+        20,
+        "--link-length",
+        0.5,
+        "--wraps-per-outline",
+        30,
+        "--laps",
+        "1,1.8",
+        "--noise",
+        "0.01",
+        "--out",
+        out,
+    )
     assert r.exit_code == 0, r.output
     assert "3 classes (bar, disc, tri), 4 outlines" in r.stdout
     info = model_info(out)
@@ -199,17 +235,31 @@ def test_train_for_a_chain_then_classify(tmp_path, outline_files):
     c = run("classify", "--model", out, input=w.stdout)
     assert c.stdout.splitlines()[1].split()[1] == "BAR", c.output
     # another chain length is refused, naming both
-    one_line_error(run("classify", "--model", out, " ".join(["pi/8"] * 16)),
-                   "trained for a chain of 20 links; these arrays have 16")  # fmt: skip
+    one_line_error(
+        run("classify", "--model", out, " ".join(["pi/8"] * 16)),
+        "trained for a chain of 20 links; these arrays have 16",
+    )
 
 
 def test_train_labels_from_a_csv(tmp_path, outline_files):
     labels = tmp_path / "labels.csv"
     labels.write_text("file,label\ndisc-1.png,round\nbar-1.png,long\nbar-2.csv,long\n")
     out = tmp_path / "m.tcm"
-    r = run("train", "--outlines", str(outline_files / "*.png"), "--outlines",
-            str(outline_files / "*.csv"), "--labels", labels, "--links", 16,
-            "--wraps-per-outline", 10, "--out", out)  # fmt: skip
+    r = run(
+        "train",
+        "--outlines",
+        str(outline_files / "*.png"),
+        "--outlines",
+        str(outline_files / "*.csv"),
+        "--labels",
+        labels,
+        "--links",
+        16,
+        "--wraps-per-outline",
+        10,
+        "--out",
+        out,
+    )
     assert r.exit_code == 0, r.output
     assert model_info(out)["classes"] == ["long", "round"]
 
@@ -220,18 +270,32 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
     out = tmp_path / "m.tcm"
     base = ["train", "--outlines", str(outline_files / "*.png"), "--out", out]
     one_line_error(run(*base, "--links", 16, "--labels", labels), "no label for 1 outline")
-    one_line_error(run("train", "--outlines", str(outline_files / "disc-*"), "--links", 16,
-                       "--out", out), "only one class")  # fmt: skip
+    one_line_error(
+        run("train", "--outlines", str(outline_files / "disc-*"), "--links", 16, "--out", out),
+        "only one class",
+    )
     one_line_error(run(*base), "--links")
     one_line_error(run("train", "--out", out), "either --data or --outlines")
     one_line_error(run(*base, "--links", 16, "--laps", "2,1"), "MIN <= MAX")
     one_line_error(run(*base, "--links", 16, "--laps", "1,2", "--diameters", "3,4"), "not both")
-    one_line_error(run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out),
-                   "matches no file")  # fmt: skip
+    one_line_error(
+        run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out), "matches no file"
+    )
     one_line_error(run(*base, "--links", 16, "--offset", "0,20"), "offset_links")
     bad = outline_files / "bad-1.csv"
     bad.write_text("0,0\n1,x\n")
-    one_line_error(run("train", "--outlines", str(bad), "--outlines",
-                       str(outline_files / "*.png"), "--links", 16, "--out", out),
-                   "'x,y' rows")  # fmt: skip
+    one_line_error(
+        run(
+            "train",
+            "--outlines",
+            str(bad),
+            "--outlines",
+            str(outline_files / "*.png"),
+            "--links",
+            16,
+            "--out",
+            out,
+        ),
+        "'x,y' rows",
+    )
     assert not out.exists()

@@ -227,9 +227,7 @@ def _replace_array(members, name, arr):
     np.lib.format.write_array(buf, arr, allow_pickle=arr.dtype.kind == "O")
     members[f"{name}.npy"] = buf.getvalue()
     m = json.loads(members["metadata.json"])
-    m["arrays"][name].update(
-        sha256=hashlib.sha256(buf.getvalue()).hexdigest(), dtype=arr.dtype.str
-    )
+    m["arrays"][name].update(sha256=hashlib.sha256(buf.getvalue()).hexdigest(), dtype=arr.dtype.str)
     members["metadata.json"] = json.dumps(m).encode()
 
 
@@ -298,7 +296,10 @@ def _array_spec(meta, attribute):
         ),
         (lambda m: _pnn_node(m)["state"].update(spread_={"__float__": "1e9"}), "nan, inf"),
         (lambda m: _pnn_node(m)["state"].update(spread_={"__tuple__": [], "x": 1}), "unknown"),
-        (lambda m: _pnn_node(m)["state"].update(spread_={"__scalar__": [1], "dtype": "<f8"}), "scalar"),
+        (
+            lambda m: _pnn_node(m)["state"].update(spread_={"__scalar__": [1], "dtype": "<f8"}),
+            "scalar",
+        ),
         (lambda m: m["estimator"]["params"].update(detrend={"__dict__": 5}), "wrong type"),
         (lambda m: m.update(info=[1]), "info must be an object"),
     ],
@@ -500,8 +501,6 @@ def test_best_class_score_needs_class_scores(data):
     X, y, T = data
     pnn = TentacleClassifier(spread=0.5).fit(X, y)
     scores = best_class_score(pnn, T)
-    np.testing.assert_allclose(
-        scores, pnn.pipeline_[-1].class_scores(pnn.transform(T)).max(axis=1)
-    )
+    np.testing.assert_allclose(scores, pnn.pipeline_[-1].class_scores(pnn.transform(T)).max(axis=1))
     with pytest.raises(InputError, match="LogisticRegression"):
         best_class_score(TentacleClassifier(classifier=LogisticRegression()).fit(X, y), T)

@@ -133,7 +133,9 @@ def test_former_npz_files_load_with_a_deprecation_warning(tmp_path):
     _legacy_save(model, path)
     with pytest.warns(DeprecationWarning, match="save the model again"):
         loaded = ScannerModel.load(path)
-    np.testing.assert_allclose(loaded.predict_proba(THESIS.grids), model.predict_proba(THESIS.grids))
+    np.testing.assert_allclose(
+        loaded.predict_proba(THESIS.grids), model.predict_proba(THESIS.grids)
+    )
 
 
 def _saved(tmp_path):

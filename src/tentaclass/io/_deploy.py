@@ -113,10 +113,10 @@ def check_chain_length(X: ArrayLike, info: dict, n_features_in: int, name: str =
 
     Examples
     --------
-    >>> check_chain_length(np.zeros((1, 20)), {"chain": {"n_links": 16}}, 16, "robot.tcm")
+    >>> check_chain_length(np.zeros((1, 20)), {"chain": {"n_links": 16}}, 16, "m")
     Traceback (most recent call last):
     ...
-    tentaclass.errors.InputError: robot.tcm was trained for a chain of 16 links; these arrays have 20 joint angles...
+    tentaclass.errors.InputError: m was trained for a chain of 16 links; these arrays have 20...
     """
     X = as_angle_array(X, "angle arrays")
     chain = info.get("chain") if isinstance(info, dict) else None
@@ -194,4 +194,3 @@ def rejection_threshold(model: Any, X_known: ArrayLike, false_rejections: float 
         raise InputError(f"false_rejections must be in [0, 1), got {false_rejections!r}")
     scores = best_class_score(model, X_known)
     return float(np.quantile(scores, false_rejections))
-

@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin, clone
-from sklearn.neighbors import KNeighborsClassifier
 from sklearn.exceptions import NotFittedError
+from sklearn.neighbors import KNeighborsClassifier
 from sklearn.utils.validation import check_is_fitted
 
 from .._validation import as_binary_grid, check_positive_int
@@ -259,7 +259,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
 
     # -- files -------------------------------------------------------------------------------
     def save(self, path: str | Path) -> None:
-        """Write the model to a ``.tcm`` model file (no pickle; see :func:`tentaclass.io.save_model`).
+        """Write the model to a ``.tcm`` model file (see :func:`tentaclass.io.save_model`).
 
         The file holds the descriptor settings, the training descriptors
         (``features_``), labels and sizes, and the fitted classifier, as
@@ -317,9 +317,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
             return model
         model = load_model(path)
         if not isinstance(model, cls):
-            raise ModelFileError(
-                f"{path}: holds a {type(model).__name__}, not a scanner model"
-            )
+            raise ModelFileError(f"{path}: holds a {type(model).__name__}, not a scanner model")
         try:
             check_is_fitted(model)
             model._check_params()
