@@ -12,7 +12,6 @@ import click
 import numpy as np
 
 from .._validation import as_angle_array
-from ..classifiers import RBFNetworkClassifier, TentacleClassifier
 from ..io import save_model
 from .options import finite, parse_angle
 
@@ -276,6 +275,8 @@ def train_for_chain(
             f"the wraps that worked cover only {np.unique(y).tolist()}; at least 2 classes are "
             "needed"
         )
+    from ..classifiers import TentacleClassifier
+
     model = TentacleClassifier().fit(train.data, y)
     held_y = y_files[held.outline]
     info = {
@@ -462,6 +463,8 @@ def _train_on_arrays(
     data: Path, out: Path, classifier: str, spread: float | str, n_coeffs: int | None,
     detrend: bool,
 ) -> None:  # fmt: skip
+    from ..classifiers import RBFNetworkClassifier, TentacleClassifier
+
     X, y = read_training_file(data)
     if classifier == "pnn":
         model = TentacleClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
