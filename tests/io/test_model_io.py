@@ -23,15 +23,20 @@ def data():
     return X, y, T
 
 
+def fourier_pnn(**features):
+    return make_pipeline(FourierFeatures(**features), PNNClassifier(spread=0.5))
+
+
 def fitted_models(X, y):
     return {
-        "tentacle-pnn": TentacleClassifier(spread=0.5, detrend=True).fit(X, y),
-        "tentacle-pnn-auto-f32": TentacleClassifier(
-            classifier=PNNClassifier(spread="auto", dtype="float32", reject_below=1e-6)
+        "tentacle-pnn": fourier_pnn(detrend=True).fit(X, y),
+        "tentacle-pnn-auto-f32": make_pipeline(
+            FourierFeatures(),
+            PNNClassifier(spread="auto", dtype="float32", reject_below=1e-6),
         ).fit(X, y),
-        "tentacle-rbf": TentacleClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
-        "tentacle-rbf-forward": TentacleClassifier(
-            normalize=True, classifier=RBFNetworkClassifier(centers="forward", n_centers=5)
+        "tentacle-rbf": make_pipeline(FourierFeatures(8), RBFNetworkClassifier()).fit(X, y),
+        "tentacle-rbf-forward": make_pipeline(
+            FourierFeatures(normalize=True), RBFNetworkClassifier(centers="forward", n_centers=5)
         ).fit(X, y),
         "pipeline": make_pipeline(FourierFeatures(6), PNNClassifier(spread=0.3)).fit(X, y),
         "pnn": PNNClassifier(spread=0.3).fit(X, y),
@@ -84,7 +89,7 @@ def test_labels_of_any_type(tmp_path, labels):
 
 def test_metadata_contents(tmp_path, data):
     X, y, _ = data
-    model = TentacleClassifier(spread=0.5).fit(X, y)
+    model = fourier_pnn().fit(X, y)
     path = save_model(model, tmp_path / "m.tcm", info={"chain": {"n_links": 32}})
     with zipfile.ZipFile(path) as zf:
         meta = json.loads(zf.read("metadata.json"))
@@ -94,10 +99,7 @@ def test_metadata_contents(tmp_path, data):
     assert meta["format_version"] == FORMAT_VERSION == 2
     assert isinstance(meta["library_version"], str)
     assert meta["info"] == {"chain": {"n_links": 32}}
-    tree = meta["estimator"]
-    assert tree["__estimator__"] == "TentacleClassifier"
-    assert tree["params"]["spread"] == 0.5 and tree["params"]["classifier"] is None
-    pipe = tree["state"]["pipeline_"]
+    pipe = meta["estimator"]
     assert pipe["__estimator__"] == "Pipeline"
     steps = pipe["params"]["steps"]
     assert [s["__tuple__"][1]["__estimator__"] for s in steps] == [
@@ -112,7 +114,7 @@ def test_metadata_contents(tmp_path, data):
     assert patterns["sha256"] == hashlib.sha256(blobs[member]).hexdigest()
     assert names == sorted(["metadata.json", *(f"{n}.npy" for n in meta["arrays"])])
     info = model_info(path)
-    assert info["chain"] == {"n_links": 32} and info["estimator"] == "TentacleClassifier"
+    assert info["chain"] == {"n_links": 32} and info["estimator"] == "Pipeline"
 
 
 def test_never_pickles(tmp_path, data):
@@ -130,7 +132,7 @@ def test_never_pickles(tmp_path, data):
 @pytest.fixture
 def good(tmp_path, data):
     X, y, _ = data
-    return save_model(TentacleClassifier(spread=0.5).fit(X, y), tmp_path / "good.tcm")
+    return save_model(fourier_pnn().fit(X, y), tmp_path / "good.tcm")
 
 
 def rewrite(src, dst, meta_fn=None, members_fn=None):
@@ -210,12 +212,12 @@ def test_flipped_bytes_anywhere_are_caught(tmp_path, good):
 
 
 def _pnn_node(meta):
-    """The PNN's record inside a saved TentacleClassifier's tree."""
-    return meta["estimator"]["state"]["pipeline_"]["params"]["steps"][1]["__tuple__"][1]
+    """The PNN's record inside a saved pipeline's tree."""
+    return meta["estimator"]["params"]["steps"][1]["__tuple__"][1]
 
 
 def _features_node(meta):
-    return meta["estimator"]["state"]["pipeline_"]["params"]["steps"][0]["__tuple__"][1]
+    return meta["estimator"]["params"]["steps"][0]["__tuple__"][1]
 
 
 def _array_name(meta, attribute):
@@ -300,7 +302,7 @@ def _array_spec(meta, attribute):
             lambda m: _pnn_node(m)["state"].update(spread_={"__scalar__": [1], "dtype": "<f8"}),
             "scalar",
         ),
-        (lambda m: m["estimator"]["params"].update(detrend={"__dict__": 5}), "wrong type"),
+        (lambda m: _features_node(m)["params"].update(detrend={"__dict__": 5}), "wrong type"),
         (lambda m: m.update(info=[1]), "info must be an object"),
     ],
 )
@@ -351,7 +353,7 @@ def test_unsupported_estimators_are_refused(tmp_path, data):
     from sklearn.svm import SVC
 
     X, y, _ = data
-    svc = TentacleClassifier(classifier=SVC()).fit(X, y)
+    svc = make_pipeline(FourierFeatures(), SVC()).fit(X, y)
     with pytest.raises(ValueError, match="cannot save a SVC"):
         save_model(svc, tmp_path / "k.tcm")
     with pytest.raises(ValueError, match="cannot save a object"):
@@ -397,7 +399,7 @@ def test_any_estimator_tree_round_trips(tmp_path, data):
         make_pipeline(FourierFeatures(), modern_mlp(random_state=0, early_stopping=False)),
         make_pipeline(FourierFeatures(), thesis_mlp(random_state=0)),
         make_pipeline(FourierFeatures(), LogisticRegression()),
-        TentacleClassifier(classifier=KNeighborsClassifier(1)),
+        make_pipeline(FourierFeatures(), KNeighborsClassifier(1)),
     ]
     for model in models:
         with warnings.catch_warnings():
@@ -468,7 +470,7 @@ def test_bad_version_1_metadata(tmp_path, edit, match):
 
 def test_thesis_model_round_trip_across_start_points(tmp_path):
     X, y = thesis_tentacle(64, return_X_y=True)
-    loaded = load_model(save_model(TentacleClassifier().fit(X, y), tmp_path / "t.tcm"))
+    loaded = load_model(save_model(fourier_pnn().fit(X, y), tmp_path / "t.tcm"))
     for k in range(0, 64, 7):
         assert loaded.predict(np.roll(X, k, axis=1)).tolist() == y.tolist()
 
@@ -499,8 +501,8 @@ def test_best_class_score_needs_class_scores(data):
     from tentaclass.io import best_class_score
 
     X, y, T = data
-    pnn = TentacleClassifier(spread=0.5).fit(X, y)
+    pnn = fourier_pnn().fit(X, y)
     scores = best_class_score(pnn, T)
-    np.testing.assert_allclose(scores, pnn.pipeline_[-1].class_scores(pnn.transform(T)).max(axis=1))
+    np.testing.assert_allclose(scores, pnn[-1].class_scores(pnn[0].transform(T)).max(axis=1))
     with pytest.raises(InputError, match="LogisticRegression"):
-        best_class_score(TentacleClassifier(classifier=LogisticRegression()).fit(X, y), T)
+        best_class_score(make_pipeline(FourierFeatures(), LogisticRegression()).fit(X, y), T)

@@ -154,8 +154,14 @@ def build_v1(meta: dict, arrays: dict[str, np.ndarray]) -> object:
     }
     if not custom and not isinstance(clf, PNNClassifier):
         raise ModelFileError("metadata: a TentacleClassifier without custom classifier uses a PNN")
-    model = TentacleClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
-    model.pipeline_ = Pipeline([("features", features), ("classifier", clf)])
+    pipeline = Pipeline([("features", features), ("classifier", clf)])
+    try:
+        model = TentacleClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
+    except TypeError:
+        # TentacleClassifier is no longer features + classifier: the pipeline
+        # it held predicts exactly as it did.
+        return pipeline
+    model.pipeline_ = pipeline
     model.classes_ = clf.classes_
     model.n_features_in_ = features.n_features_in_
     return model
