@@ -162,6 +162,7 @@ def test_truncated_model_file(tmp_path, npz):
         ("0,0,pi,a\n0,x,pi,b\n", "bad.csv", "line 2"),
         ("# only comments\n", "empty.csv", "no labelled angle arrays"),
         ("0,0,pi,\n0,0,pi,b\n", "nolabel.csv", "empty label"),
+        ("0,0,pi,pi/2\n0,0,pi,0.5\n", "nolabels.csv", "the last column holds angles"),
         (b"\xff\xfe\x00bin", "bin.csv", "not a text file"),
     ],
 )

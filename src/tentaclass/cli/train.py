@@ -93,6 +93,12 @@ def _read_csv(path: Path) -> tuple[np.ndarray, np.ndarray]:
     lengths = sorted({len(r) for r in rows})
     if len(lengths) > 1:
         raise ValueError(f"{path}: rows have different numbers of angles {lengths}")
+    angle_like = [lab for lab in labels if not _not_angle(lab) and not lab.lstrip("+-").isdigit()]
+    if len(angle_like) == len(labels):
+        raise ValueError(
+            f"{path}: the last column holds angles (e.g. {angle_like[0]!r}), not labels: "
+            "each row needs the angles, then the class label"
+        )
     return np.array(rows), np.array(labels)
 
 
