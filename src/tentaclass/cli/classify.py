@@ -143,7 +143,14 @@ def classify(
         check_chain_length(X, info, n_in if isinstance(n_in, int) else X.shape[1], name)
     labels = model.predict(X).astype(object)
     proba = model.predict_proba(X)
-    if reject or reject_below is not None:
+    own = model.get_params(deep=False).get("reject", None) if hasattr(model, "reject") else None
+    if own is not None and reject_below is None:
+        # a recogniser that rejects by itself answers "unknown" in predict already
+        if reject and not own:
+            raise ValueError(
+                f"{name} was trained without rejection: train it again with --reject-rate"
+            )
+    elif reject or reject_below is not None:
         threshold = reject_below if reject_below is not None else info.get("reject_below")
         if not isinstance(threshold, int | float):
             raise ValueError(f"{name} has no rejection threshold of its own: give --reject-below")

@@ -252,6 +252,7 @@ def train_for_chain(
     n_wraps: int,
     mode: str,
     random_state: int,
+    reject_rate: float | None = None,
     quiet: bool = False,
 ):
     """Wrap the outlines with the chain, train the default recogniser; model and info."""
@@ -283,7 +284,11 @@ def train_for_chain(
         )
     from ..classifiers import TentacleClassifier
 
-    model = TentacleClassifier().fit(train.data, y)
+    own_reject = "reject" in TentacleClassifier().get_params()
+    if own_reject and reject_rate is not None:
+        model = TentacleClassifier(reject=reject_rate).fit(train.data, y)
+    else:
+        model = TentacleClassifier().fit(train.data, y)
     held_y = y_files[held.outline]
     info = {
         "chain": {**chain, "n_wraps": n_wraps, "random_state": random_state},
@@ -295,10 +300,12 @@ def train_for_chain(
             "held_out_accuracy": float(np.mean(model.predict(held.data) == held_y)),
         },
     }
-    try:
-        info["reject_below"] = rejection_threshold(model, held.data, 0.01)
-    except ValueError:
-        pass  # a classifier without class scores: no rejection
+    if not own_reject:
+        try:
+            rate = 0.01 if reject_rate is None else reject_rate
+            info["reject_below"] = rejection_threshold(model, held.data, rate)
+        except ValueError:
+            pass  # a classifier without class scores: no rejection
     return model, info
 
 
@@ -359,6 +366,12 @@ def train_for_chain(
     help="Seed of the generated wraps.",
 )  # fmt: skip
 @click.option(
+    "--reject-rate",
+    type=click.FloatRange(0, 1, min_open=True, max_open=True),
+    help="With --outlines: train the model to answer 'unknown' for objects unlike every "
+    "class, rejecting about this fraction of known ones (e.g. 0.02).",
+)
+@click.option(
     "--out",
     "out",
     required=True,
@@ -406,6 +419,7 @@ def train(
     n_wraps: int,
     mode: str,
     random_state: int,
+    reject_rate: float | None,
     out: Path,
     classifier: str,
     spread: float | str,
@@ -454,7 +468,7 @@ def train(
     model, info = train_for_chain(
         files, labels, n_links=n_links, link_length=link_length, laps=laps,
         diameters=diameters, offset=offset, noise=noise, n_wraps=n_wraps, mode=mode,
-        random_state=random_state, quiet=quiet,
+        random_state=random_state, reject_rate=reject_rate, quiet=quiet,
     )  # fmt: skip
     save_model(model, out, info=info)
     t = info["training"]
