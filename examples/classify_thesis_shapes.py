@@ -6,7 +6,7 @@ Run: ``python examples/classify_thesis_shapes.py``
 import numpy as np
 from sklearn.model_selection import GridSearchCV
 
-from tentaclass import TentacleClassifier
+from tentaclass import FourierClassifier
 from tentaclass.datasets import thesis_tentacle
 
 rng = np.random.default_rng(0)
@@ -19,12 +19,12 @@ both_ways = np.concatenate([starts, -starts[:, ::-1]])
 labels = np.concatenate([labels, labels])
 noisy = both_ways + rng.normal(0, 0.03, both_ways.shape)
 
-clf = TentacleClassifier(detrend=True).fit(X, y)
+clf = FourierClassifier(detrend=True).fit(X, y)
 print(
     f"trained on {len(X)} arrays, accuracy on {len(noisy)} noisy variants:",
     clf.score(noisy, labels),
 )
 
-grid = GridSearchCV(TentacleClassifier(detrend=True), {"spread": [0.1, 1.0, 10.0]}, cv=3)
+grid = GridSearchCV(FourierClassifier(detrend=True), {"spread": [0.1, 1.0, 10.0]}, cv=3)
 grid.fit(noisy, labels)
 print("best spread:", grid.best_params_["spread"], "cv accuracy:", round(grid.best_score_, 3))

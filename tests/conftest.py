@@ -25,7 +25,11 @@ settings.register_profile(
 )
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
-SHARED_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+# ../shared/data beside the clone, or wherever TENTACLASS_SHARED_DATA points
+SHARED_DATA = Path(
+    os.environ.get("TENTACLASS_SHARED_DATA")
+    or Path(__file__).resolve().parents[1].parent / "shared" / "data"
+)
 MPEG7 = SHARED_DATA / "mpeg7-part-b"
 
 
@@ -40,7 +44,7 @@ def rng():
     return np.random.default_rng(12345)
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def mpeg7_folder():
     if not MPEG7.is_dir():
         pytest.skip(

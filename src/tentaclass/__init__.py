@@ -4,7 +4,8 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 
 - :mod:`tentaclass.geometry`: joint angles <-> points of a planar chain;
 - :mod:`tentaclass.features`: turning function, periodic signal, Fourier features;
-- :mod:`tentaclass.classifiers`: PNN and the end-to-end :class:`TentacleClassifier`;
+- :mod:`tentaclass.classifiers`: the default :class:`TentacleClassifier` (any wrap of a
+  fixed chain), the thesis's :class:`FourierClassifier`, PNN and more;
 - :mod:`tentaclass.datasets`: the thesis's arrays and grids;
 - :mod:`tentaclass.report`: results as columns / JSON;
 - :mod:`tentaclass.shapes`, :func:`wrap`: object outlines and the joint angles a chain
@@ -17,6 +18,7 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
 
 from . import shapes
 from .classifiers import (
+    FourierClassifier,
     PNNClassifier,
     RBFNetworkClassifier,
     ShiftNNClassifier,
@@ -30,6 +32,7 @@ from .features import (
     dft_layer,
     fourier_features,
     periodic_signal,
+    split_laps,
     turning_function,
 )
 from .geometry import angles_to_points, points_to_angles, resample_closed
@@ -53,6 +56,7 @@ __version__ = "0.1.0"
 __all__ = [
     "ChainKinematics",
     "Defect",
+    "FourierClassifier",
     "FourierFeatures",
     "GraspState",
     "Inspection",
@@ -83,6 +87,7 @@ __all__ = [
     "resample_closed",
     "save_model",
     "shapes",
+    "split_laps",
     "thesis_mlp",
     "turning_function",
     "wrap",

@@ -67,6 +67,10 @@ def test_bench_cli_bad_method():
         (["--seed", "-1"], "--seed"),  # was "expected non-negative integer"
         (["--jobs", "0"], "--jobs"),
         (["--jobs", "-2"], "--jobs"),
+        (["--laps", "2,1"], "low <= high"),
+        (["--laps", "x"], "low,high"),
+        (["--offset", "-1,2"], "low <= high"),
+        (["--protocol", "tuned"], "--protocol"),
     ],
 )
 def test_bench_cli_bad_options(tmp_path, args, message):
@@ -99,6 +103,20 @@ def test_bench_cli_passes_jobs_to_the_generator(tmp_path, monkeypatch):
                                  "thesis", "--out", str(tmp_path / "out")])  # fmt: skip
     assert r.exit_code == 1 and "stop here" in r.output
     assert seen["n_jobs"] == 2
+    assert seen["protocol"] == "fixed-chain" and seen["laps"] == (1.2, 2.0)
+    assert seen["offset_links"] == (0.0, 2.0) and seen["progress"] is True
+
+
+def test_failed_wraps_count_as_errors_and_never_train():
+    X, y = reference_tentacle(16, n_starts=10, return_X_y=True)
+    failed = np.zeros(len(y), bool)
+    failed[::4] = True
+    X = X.copy()
+    X[failed, 8:] = np.nan  # a chain that stopped after 8 links
+    (r,) = run_benchmark(X, y, ["thesis"], failed=failed, n_splits=5)
+    assert r.n_test == len(y)
+    assert r.accuracy == pytest.approx(1 - failed.mean())  # every other wrap is right
+    assert (r.y_pred == "failed").sum() == failed.sum()
 
 
 def test_bench_cli_ucr_without_aeon_names_the_data_set(tmp_path, monkeypatch):

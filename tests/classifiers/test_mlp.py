@@ -10,7 +10,7 @@ from threadpoolctl import threadpool_limits
 
 from tentaclass.classifiers import (
     FixedEpochsMLPClassifier,
-    TentacleClassifier,
+    FourierClassifier,
     modern_mlp,
     thesis_mlp,
 )
@@ -100,7 +100,7 @@ def test_other_warnings_still_surface():
 
 def test_thesis_mlp_learns_the_thesis_shapes():
     X, y = reference_tentacle(64, n_starts=8, return_X_y=True)
-    clf = TentacleClassifier(classifier=thesis_mlp(random_state=0)).fit(X, y)
+    clf = FourierClassifier(classifier=thesis_mlp(random_state=0)).fit(X, y)
     assert clf.score(X, y) == 1.0
     assert clf.predict(np.roll(X, 11, axis=1)).tolist() == y.tolist()
 
@@ -112,7 +112,7 @@ def test_modern_mlp_generalises_on_noisy_tentacles():
     ys = np.tile(y, 8)
     train = Xs + rng.normal(0, 0.05, Xs.shape)
     test = Xs + rng.normal(0, 0.05, Xs.shape)
-    clf = TentacleClassifier(detrend=True, classifier=modern_mlp(random_state=0)).fit(train, ys)
+    clf = FourierClassifier(detrend=True, classifier=modern_mlp(random_state=0)).fit(train, ys)
     assert clf.score(test, ys) >= 0.95
 
 

@@ -5,7 +5,7 @@ from sklearn.model_selection import GridSearchCV, cross_val_score
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 import tentaclass.classifiers._pnn as pnn_module
-from tentaclass.classifiers import PNNClassifier, TentacleClassifier
+from tentaclass.classifiers import FourierClassifier, PNNClassifier
 from tentaclass.datasets import thesis_tentacle
 
 
@@ -163,7 +163,7 @@ def test_auto_spread_on_separated_clusters(rng, scale):
 
 def test_auto_spread_with_one_pattern_per_class():
     X, y = thesis_tentacle(16, return_X_y=True)
-    clf = TentacleClassifier(spread="auto").fit(X, y)
+    clf = FourierClassifier(spread="auto").fit(X, y)
     pnn = clf.pipeline_.named_steps["classifier"]
     assert np.isfinite(pnn.spread_) and pnn.spread_ > 0
     assert clf.predict(np.roll(X, 5, axis=1)).tolist() == y.tolist()
@@ -179,12 +179,12 @@ def test_auto_spread_ignores_duplicates_and_stays_finite():
 
 def test_rejection_gives_unknown_instead_of_forced_class():
     X, y = thesis_tentacle(16, return_X_y=True)
-    clf = TentacleClassifier(spread=1.0, reject_below=1e-3).fit(X, y)
+    clf = FourierClassifier(spread=1.0, reject_below=1e-3).fit(X, y)
     assert clf.predict(X).tolist() == y.tolist()
     star = np.tile([np.pi / 2 + 0.9, -0.9], 8)  # a wavy outline, no thesis class
     star *= 2 * np.pi / star.sum()
     assert clf.predict(star[None]).tolist() == ["unknown"]
-    forced = TentacleClassifier(spread=1.0).fit(X, y).predict(star[None])
+    forced = FourierClassifier(spread=1.0).fit(X, y).predict(star[None])
     assert forced[0] in set(y)
 
 
@@ -223,7 +223,7 @@ def test_single_class_and_nan_are_refused():
 @pytest.mark.parametrize("n_links", [16, 64])
 def test_thesis_shapes_from_every_start_point_and_both_directions(n_links):
     X, y = thesis_tentacle(n_links, return_X_y=True)
-    clf = TentacleClassifier().fit(X, y)
+    clf = FourierClassifier().fit(X, y)
     for k in range(n_links):
         rolled = np.roll(X, k, axis=1)
         assert clf.predict(rolled).tolist() == y.tolist()
@@ -236,9 +236,9 @@ def test_tentacle_classifier_in_cross_validation_and_grid_search(rng):
     Xs = np.concatenate([np.roll(X, k, axis=1) for k in range(16)])
     ys = np.tile(y, 16)
     Xs = Xs + rng.normal(0, 0.05, Xs.shape)
-    scores = cross_val_score(TentacleClassifier(detrend=True), Xs, ys, cv=4)
+    scores = cross_val_score(FourierClassifier(detrend=True), Xs, ys, cv=4)
     assert scores.min() == 1.0
-    grid = GridSearchCV(TentacleClassifier(), {"spread": [0.05, 0.5, 5.0]}, cv=3).fit(Xs, ys)
+    grid = GridSearchCV(FourierClassifier(), {"spread": [0.05, 0.5, 5.0]}, cv=3).fit(Xs, ys)
     assert grid.best_params_["spread"] in (0.05, 0.5, 5.0)
     assert grid.score(Xs, ys) >= 0.99
 
@@ -247,6 +247,6 @@ def test_tentacle_classifier_with_another_classifier():
     from sklearn.neighbors import KNeighborsClassifier
 
     X, y = thesis_tentacle(64, return_X_y=True)
-    clf = TentacleClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
+    clf = FourierClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
     assert clf.predict(np.roll(X, 7, axis=1)).tolist() == y.tolist()
     assert clf.transform(X).shape == (4, 32)

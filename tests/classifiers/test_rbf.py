@@ -6,7 +6,7 @@ from scipy.spatial.distance import cdist
 from sklearn.utils.estimator_checks import parametrize_with_checks
 from threadpoolctl import threadpool_limits
 
-from tentaclass.classifiers import RBFNetworkClassifier, TentacleClassifier
+from tentaclass.classifiers import FourierClassifier, RBFNetworkClassifier
 from tentaclass.datasets import thesis_tentacle
 
 
@@ -140,7 +140,7 @@ def test_labels_of_any_type():
 
 def test_thesis_shapes_in_tentacle_classifier():
     X, y = thesis_tentacle(64, return_X_y=True)
-    clf = TentacleClassifier(classifier=RBFNetworkClassifier()).fit(X, y)
+    clf = FourierClassifier(classifier=RBFNetworkClassifier()).fit(X, y)
     assert clf.predict(np.roll(X, 9, axis=1)).tolist() == y.tolist()
 
 

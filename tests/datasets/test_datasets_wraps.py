@@ -76,3 +76,57 @@ def test_mpeg7_wraps_without_cache_write_nothing(mpeg7_folder, tmp_path, monkeyp
     assert not (tmp_path / "cache").exists()
     mpeg7_tentacle(data, 16)
     assert len(list((tmp_path / "cache").glob("tentaclass/*.npz"))) == 2  # outlines, wraps
+
+
+def test_fixed_chain_wraps_keep_every_row(mpeg7_folder, tmp_path):
+    for name in ("apple-1.png", "Bone-1.png", "device3-1.png"):
+        shutil.copy(mpeg7_folder / name, tmp_path / name)
+    d = mpeg7_tentacle(tmp_path, 32, protocol="fixed-chain", laps=(1.2, 2.0), copies=2,
+                       cache=False)  # fmt: skip
+    assert d.data.shape == (6, 32) and d.complete.shape == (6,)  # failed wraps are kept
+    assert np.all((d.offset >= 0) & (d.offset <= 2))
+    done = d.complete
+    assert np.all(np.isfinite(d.data[done]))
+    # one chain of unit links: the object was scaled to the laps, read back from the angles
+    from tentaclass.features import split_laps
+
+    s = split_laps(d.data[done])
+    assert np.mean(s.closed & (s.laps > 1.0) & (s.laps < 2.4)) >= 0.8
+
+
+def test_wrap_cache_is_keyed_on_the_files(mpeg7_folder, tmp_path, monkeypatch):
+    from tentaclass.datasets import clear_cache
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    a, b = tmp_path / "a", tmp_path / "b"
+    a.mkdir()
+    b.mkdir()
+    shutil.copy(mpeg7_folder / "apple-1.png", a / "apple-1.png")
+    shutil.copy(mpeg7_folder / "Bone-1.png", b / "Bone-1.png")
+    kw = {"protocol": "fixed-chain", "laps": (1.2, 1.5)}
+    da, db = mpeg7_tentacle(a, 16, **kw), mpeg7_tentacle(b, 16, **kw)  # same number of files
+    assert da.target.tolist() == ["apple"] and db.target.tolist() == ["Bone"]
+    assert not np.array_equal(da.data, db.data, equal_nan=True)
+    store = tmp_path / "cache" / "tentaclass"
+    assert len(list(store.glob("mpeg7-wraps-*.npz"))) == 2
+    # a cached read equals a fresh one; other parameters are another entry
+    np.testing.assert_array_equal(mpeg7_tentacle(a, 16, **kw).data, da.data)
+    np.testing.assert_array_equal(mpeg7_tentacle(a, 16, cache=False, **kw).data, da.data)
+    mpeg7_tentacle(a, 16, protocol="fixed-chain", laps=(1.5, 1.8))
+    assert len(list(store.glob("mpeg7-wraps-*.npz"))) == 3
+    assert clear_cache() == 3
+    assert not list(store.glob("mpeg7-wraps-*.npz"))
+
+
+def test_synthetic_return_x_y_and_modes():
+    X, y = synthetic_tentacle(12, 16, mode="hug", seed=2, return_X_y=True)
+    d = synthetic_tentacle(12, 16, mode="hug", seed=2)
+    np.testing.assert_array_equal(X, d.data)
+    assert y.tolist() == d.target.tolist() and d.complete.shape == (12,)
+    with pytest.raises(ValueError, match="mode"):
+        synthetic_tentacle(4, mode="loose")
+
+
+def test_mpeg7_bad_protocol(mpeg7_folder):
+    with pytest.raises(ValueError, match="protocol"):
+        mpeg7_tentacle(mpeg7_folder, 16, protocol="tuned")

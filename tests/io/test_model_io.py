@@ -7,7 +7,12 @@ import numpy as np
 import pytest
 from sklearn.pipeline import make_pipeline
 
-from tentaclass.classifiers import PNNClassifier, RBFNetworkClassifier, TentacleClassifier
+from tentaclass.classifiers import (
+    FourierClassifier,
+    PNNClassifier,
+    RBFNetworkClassifier,
+    TentacleClassifier,
+)
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
 from tentaclass.errors import ModelFileError
 from tentaclass.features import FourierFeatures
@@ -38,6 +43,8 @@ def fitted_models(X, y):
         "tentacle-rbf-forward": make_pipeline(
             FourierFeatures(normalize=True), RBFNetworkClassifier(centers="forward", n_centers=5)
         ).fit(X, y),
+        "fourier-pnn": FourierClassifier(spread=0.5, detrend=True).fit(X, y),
+        "fourier-rbf": FourierClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
         "pipeline": make_pipeline(FourierFeatures(6), PNNClassifier(spread=0.3)).fit(X, y),
         "pnn": PNNClassifier(spread=0.3).fit(X, y),
         "rbf": RBFNetworkClassifier(centers="kmeans", n_centers=6, random_state=0).fit(X, y),
@@ -51,6 +58,8 @@ def fitted_models(X, y):
         "tentacle-pnn-auto-f32",
         "tentacle-rbf",
         "tentacle-rbf-forward",
+        "fourier-pnn",
+        "fourier-rbf",
         "pipeline",
         "pnn",
         "rbf",
@@ -66,6 +75,25 @@ def test_round_trip_predicts_exactly_alike(tmp_path, data, name):
     np.testing.assert_array_equal(loaded.classes_, model.classes_)
     assert loaded.classes_.dtype == model.classes_.dtype
     assert loaded.get_params(deep=False).keys() == model.get_params(deep=False).keys()
+
+
+def test_default_recogniser_round_trips(tmp_path):
+    """The default TentacleClassifier, saved without knowing its internals."""
+    from tentaclass.datasets import synthetic_tentacle
+
+    d = synthetic_tentacle(160, 16, noise=(0.0, 0.02), seed=0)
+    ok = np.isfinite(d.data).all(axis=1)  # failed wraps come back as NaN rows
+    X, y = d.data[ok], d.target[ok]
+    model = TentacleClassifier().fit(X, y)
+    t = synthetic_tentacle(40, 16, laps=(0.5, 2.5), noise=(0.0, 0.02), seed=1)
+    T = t.data[np.isfinite(t.data).all(axis=1)]
+    loaded = load_model(save_model(model, tmp_path / "default.tcm"))
+    assert type(loaded) is TentacleClassifier
+    np.testing.assert_array_equal(loaded.predict_proba(T), model.predict_proba(T))
+    np.testing.assert_array_equal(loaded.predict(T), model.predict(T))
+    rejecting = TentacleClassifier(reject=0.05).fit(X, y)
+    again = load_model(save_model(rejecting, tmp_path / "reject.tcm"))
+    np.testing.assert_array_equal(again.predict(T), rejecting.predict(T))
 
 
 @pytest.mark.parametrize(

@@ -18,7 +18,7 @@ from sklearn.pipeline import make_pipeline, make_union
 from sklearn.preprocessing import StandardScaler
 from sklearn.svm import SVC
 
-from ..classifiers import PNNClassifier, TentacleClassifier
+from ..classifiers import FourierClassifier, PNNClassifier, TentacleClassifier
 from ..classifiers._shift_nn import ShiftNNClassifier
 from ..errors import InputError
 from ..features import AngleSpectrum, FourierFeatures, LastLap
@@ -63,20 +63,27 @@ METHODS: dict[str, Method] = {
     m.name: m
     for m in [
         Method(
+            "tentacle",
+            TentacleClassifier,
+            "the default TentacleClassifier(): every lap found and averaged, shape matching, "
+            "calibrated",
+            True,
+        ),
+        Method(
             "thesis",
-            lambda: TentacleClassifier(spread=0.1),
+            lambda: FourierClassifier(spread=0.1),
             "thesis: |DFT| of E (2 pi ramp) + PNN, spread 0.1",
             True,
         ),
         Method(
             "fourier-1nn",
-            lambda: TentacleClassifier(detrend=True, classifier=KNeighborsClassifier(1)),
+            lambda: FourierClassifier(detrend=True, classifier=KNeighborsClassifier(1)),
             "|DFT| of detrended E + 1-NN",
             True,
         ),
         Method(
             "fourier-pnn",
-            lambda: TentacleClassifier(
+            lambda: FourierClassifier(
                 detrend=True, weight_power=0.5, classifier=PNNClassifier(spread="auto")
             ),
             "|DFT| of detrended E, weighted by sqrt(k), + PNN with spread chosen on training",
@@ -84,7 +91,7 @@ METHODS: dict[str, Method] = {
         ),
         Method(
             "fourier-w1nn",
-            lambda: TentacleClassifier(
+            lambda: FourierClassifier(
                 detrend=True, weight_power=0.5, classifier=KNeighborsClassifier(1)
             ),
             "|DFT| of detrended E, weighted by sqrt(k), + 1-NN",
@@ -129,7 +136,7 @@ METHODS: dict[str, Method] = {
         Method(
             "lap-fourier-1nn",
             lambda: make_pipeline(
-                LastLap(), TentacleClassifier(detrend=True, classifier=KNeighborsClassifier(1))
+                LastLap(), FourierClassifier(detrend=True, classifier=KNeighborsClassifier(1))
             ),
             "last full lap + |DFT| of detrended E + 1-NN",
             True,
@@ -137,7 +144,7 @@ METHODS: dict[str, Method] = {
         Method(
             "lap-fourier-lp-1nn",
             lambda: make_pipeline(
-                LastLap(), TentacleClassifier(n_coeffs=0.5, classifier=KNeighborsClassifier(1))
+                LastLap(), FourierClassifier(n_coeffs=0.5, classifier=KNeighborsClassifier(1))
             ),
             "last full lap + lowest half of the |DFT| coefficients (2 pi ramp) + 1-NN",
             True,

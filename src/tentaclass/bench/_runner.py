@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -55,6 +56,7 @@ def run_benchmark(
     groups: ArrayLike | None = None,
     is_eval: ArrayLike | None = None,
     split: ArrayLike | None = None,
+    failed: ArrayLike | None = None,
     n_splits: int = 10,
     seed: int = 0,
     progress: bool = False,
@@ -78,6 +80,10 @@ def run_benchmark(
         every array of every object not under test.
     split : array_like of {"train", "test"}, optional
         An official train/test split instead of k folds.
+    failed : array_like of bool, shape (n_samples,), optional
+        Wraps the generator could not complete (NaN after the last placed
+        link). They never train and are never shown to a method; where scored
+        they count as errors (predicted ``"failed"``).
     n_splits : int, default=10
     seed : int, default=0
         Shuffles the folds.
@@ -97,6 +103,8 @@ def run_benchmark(
     >>> [r.accuracy for r in run_benchmark(X, y, ["thesis"], n_splits=5)]
     [1.0]
     """
+    failed = np.zeros(len(X), bool) if failed is None else np.asarray(failed, bool)
+    X = np.where(failed[:, None], 0.0, np.asarray(X, dtype=float)) if failed.any() else X
     X = as_float_array(X, "X", min_ndim=2)
     y = np.asarray(y)
     if X.ndim != 2 or len(y) != len(X):
@@ -117,14 +125,14 @@ def run_benchmark(
         task = bar.add_task("benchmark", total=len(methods) * len(folds))
     try:
         for name in methods:
-            results.append(_run_one(name, X, y, folds, bar, task if bar else None))
+            results.append(_run_one(name, X, y, folds, bar, task if bar else None, groups, failed))
     finally:
         if bar is not None:
             bar.stop()
     return results
 
 
-def _run_one(name, X, y, folds, bar, task) -> BenchResult:
+def _run_one(name, X, y, folds, bar, task, groups, failed) -> BenchResult:
     fit_s = pred_s = 0.0
     y_true, y_pred, accs = [], [], []
     try:
@@ -133,10 +141,17 @@ def _run_one(name, X, y, folds, bar, task) -> BenchResult:
             if bar is not None:
                 bar.update(task, description=f"{name}")
             est = clone(proto)
+            tr = tr[~failed[tr]]
+            shown = te[~failed[te]]
             t0 = time.perf_counter()
-            est.fit(X[tr], y[tr])
+            if "groups" in inspect.signature(est.fit).parameters:  # honest calibration
+                est.fit(X[tr], y[tr], groups=groups[tr])
+            else:
+                est.fit(X[tr], y[tr])
             t1 = time.perf_counter()
-            pred = est.predict(X[te])
+            pred = np.full(len(te), "failed", dtype=object)
+            if shown.size:
+                pred[~failed[te]] = est.predict(X[shown])
             t2 = time.perf_counter()
             fit_s += t1 - t0
             pred_s += t2 - t1

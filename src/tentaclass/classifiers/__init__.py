@@ -1,5 +1,6 @@
-"""Classifiers: PNN, RBF network, MLP presets, shift-invariant 1-NN, tentacle pipeline."""
+"""Classifiers: the default TentacleClassifier; the thesis pipeline, PNN, RBF, MLP, shift 1-NN."""
 
+from ._fourier import FourierClassifier
 from ._mlp import FixedEpochsMLPClassifier, modern_mlp, thesis_mlp
 from ._pnn import PNNClassifier
 from ._rbf import RBFNetworkClassifier
@@ -8,6 +9,7 @@ from ._tentacle import TentacleClassifier
 
 __all__ = [
     "FixedEpochsMLPClassifier",
+    "FourierClassifier",
     "PNNClassifier",
     "RBFNetworkClassifier",
     "ShiftNNClassifier",

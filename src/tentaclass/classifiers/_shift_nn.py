@@ -110,7 +110,7 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         """Weighted spectra of the signals and the squared norms of what they describe."""
         n = s.shape[1]
         spec = np.fft.fft(s, axis=1) if np.iscomplexobj(s) else np.fft.rfft(s, axis=1)
-        spec = spec * self._weights
+        spec = spec * self.weights_
         power = np.abs(spec) ** 2
         if not np.iscomplexobj(s):  # rfft holds each frequency but 0 and n/2 once
             power[:, 1 : (n + 1) // 2] *= 2
@@ -149,15 +149,15 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
                 f"signal={self.signal!r} needs at least 3 joint angles, got {X.shape[1]}"
             )
         check_classification_targets(y)
-        self.classes_, self._y = np.unique(y, return_inverse=True)
+        self.classes_, self.labels_ = np.unique(y, return_inverse=True)
         s = self._signals(X)
-        self._weights = self._frequency_weights(X.shape[1], np.iscomplexobj(s))
-        self._spec, self._sq = self._spectrum(s)
+        self.weights_ = self._frequency_weights(X.shape[1], np.iscomplexobj(s))
+        self.spectra_, self.norms_ = self._spectrum(s)
         return self
 
     def _best_correlation(self, spec_q: np.ndarray, n: int, conj_train: bool) -> FloatArray:
         """Max over shifts of the circular cross-correlation, (n_query, n_train)."""
-        train = np.conj(self._spec) if conj_train else self._spec
+        train = np.conj(self.spectra_) if conj_train else self.spectra_
         rows = max(1, _BLOCK_BYTES // (16 * max(1, train.size)))
         out = np.empty((spec_q.shape[0], train.shape[0]))
         complex_signal = self.signal == "shape"
@@ -191,12 +191,12 @@ class ShiftNNClassifier(ClassifierMixin, BaseEstimator):
         best = self._best_correlation(spec, n, conj_train=True)
         if self.mirror:
             np.maximum(best, self._best_correlation(spec, n, conj_train=False), out=best)
-        return np.maximum(sq[:, None] + self._sq[None, :] - 2 * best, 0.0)
+        return np.maximum(sq[:, None] + self.norms_[None, :] - 2 * best, 0.0)
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of the nearest training signal, shape (n_queries,)."""
         check_is_fitted(self)
-        return self.classes_[self._y[np.argmin(self.shift_distances(X), axis=1)]]
+        return self.classes_[self.labels_[np.argmin(self.shift_distances(X), axis=1)]]
 
 
 def _closed_polygon(q: FloatArray, closure: str = "spread") -> np.ndarray:

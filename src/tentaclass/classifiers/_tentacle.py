@@ -1,124 +1,359 @@
-"""End-to-end estimator: joint angles -> Fourier features -> classifier."""
+"""The default recogniser: any wrap of a fixed chain -> object class, or "unknown"."""
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
-from sklearn.base import BaseEstimator, ClassifierMixin, clone
-from sklearn.pipeline import Pipeline
+from scipy.optimize import minimize_scalar
+from scipy.special import softmax
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._typing import ArrayLike, FloatArray
-from ..features.transformers import FourierFeatures
-from ._pnn import PNNClassifier
+from ..errors import InputError
+from ..features import split_laps
+from ._shift_nn import ShiftNNClassifier
 
 __all__ = ["TentacleClassifier"]
 
+#: Training wraps used as leave-one-out queries to calibrate (enough for two numbers).
+_CALIBRATION_QUERIES = 300
+#: Partial arcs cut from training laps to calibrate the partial-wrap matcher.
+_PARTIAL_QUERIES = 100
+
 
 class TentacleClassifier(ClassifierMixin, BaseEstimator):
-    """Object class from a tentacle's joint angles.
+    """Object class from the joint angles of any wrap of a chain of equal links.
 
-    A pipeline of :class:`~tentaclass.features.FourierFeatures` (``|DFT|`` of the
-    periodic turning signal: invariant to the object's position, rotation, size,
-    the wrap's start point and its direction) and a classifier, by default a
-    :class:`PNNClassifier`.
+    The chain may stand off the object (approach links), wrap it partly, once
+    or several times, clockwise or counter-clockwise, from any start point,
+    with noisy encoders. From the angles alone the classifier finds the
+    approach and the length of one lap (:func:`tentaclass.features.split_laps`),
+    averages every lap it sees into one (joint noise falls with the number of
+    laps), and compares the averaged lap with every training lap by the
+    Procrustes distance of the rebuilt outlines, minimised over start point,
+    rotation and mirror image, on the lowest half of the frequencies weighted
+    by frequency (:class:`ShiftNNClassifier` with ``signal="shape"``): what
+    held best from clean to 0.05 rad of joint noise, hugging or taut
+    (BENCHMARKS.md). A wrap of less than one lap is matched as an arc against
+    every stretch of every training lap.
+
+    Probabilities are a softmax of the distances to each class's nearest
+    training lap, with a temperature fitted on leave-one-out matches of the
+    training wraps (and of partial arcs cut from them, for partial wraps).
 
     Parameters
     ----------
-    n_coeffs : int or float, optional
-        Fourier coefficients kept; default ``floor(n_joints / 2)``; a float in
-        (0, 1) keeps that fraction of them.
-    detrend : bool, default=False
-        Ramp through the measured total turn (robust to joint noise).
-    normalize : bool, default=False
-        Divide features by ``n_joints``.
-    weight_power : float, default=0.0
-        Weight coefficient ``k`` by ``k ** weight_power`` (0.5 helps with joint
-        noise; see :class:`~tentaclass.features.FourierFeatures`).
-    spread : float or "auto", default=0.1
-        Kernel width of the default PNN (ignored when ``classifier`` is given);
-        ``"auto"`` chooses it on the training features (see
-        :class:`PNNClassifier`).
-    reject_below : float, optional
-        Rejection threshold of the default PNN (see :class:`PNNClassifier`).
-    classifier : estimator, optional
-        Any scikit-learn classifier to use instead of the PNN; it is cloned.
+    n_points : int, default=64
+        Links of the averaged lap every wrap is resampled to.
+    reject : bool or float, default=False
+        Open set. ``False``: always answer a trained class. ``True``: answer
+        ``unknown_label`` for a wrap farther from every training wrap than
+        95 % of the training wraps are from their nearest other one (leave one
+        out, a log-normal fitted by median and MAD, so a few odd training
+        wraps do not move it): about 5 % of known objects are rejected. A
+        float in (0, 1): that fraction of known objects may be rejected
+        instead.
+    unknown_label : str, default="unknown"
+        The answer for rejected wraps.
 
     Attributes
     ----------
-    pipeline_ : sklearn.pipeline.Pipeline
-        The fitted feature + classifier pipeline.
     classes_ : ndarray of shape (n_classes,)
     n_features_in_ : int
         Joint angles per array seen in ``fit``.
+    matcher_ : ShiftNNClassifier
+        The shape matcher, fitted on the averaged training laps.
+    headings_ : ndarray of shape (n_arcs, n_points)
+        Heading functions of the closed training laps (and their mirror
+        images), for partial wraps.
+    arc_labels_ : ndarray of shape (n_arcs,)
+        Class index of each row of ``headings_``.
+    scale_ : float
+        Median leave-one-out nearest distance of the training laps: distances
+        are divided by it.
+    temperature_ : float
+        Softmax temperature of full wraps (on scaled distances).
+    partial_scale_, partial_temperature_ : float
+        The same for partial wraps.
+    reject_distance_, partial_reject_distance_ : float
+        Scaled distances to the nearest class beyond which a wrap is
+        "unknown" (``inf`` without ``reject``).
+    reject_margin_, partial_reject_margin_ : float
+        Scaled margins between the nearest and the second nearest class below
+        which a wrap is "unknown" (``-inf`` without ``reject``).
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from tentaclass.datasets import thesis_tentacle
-    >>> X, y = thesis_tentacle(16, return_X_y=True)
+    >>> from tentaclass.datasets import synthetic_tentacle
+    >>> X, y = synthetic_tentacle(300, 32, noise=0.02, seed=0, return_X_y=True)
     >>> clf = TentacleClassifier().fit(X, y)
-    >>> clf.predict(np.roll(X, 3, axis=1)).tolist()  # another start point
-    ['square', 'circle', 'triangle', 'rectangle']
+    >>> Xt, yt = synthetic_tentacle(50, 32, noise=0.02, seed=1, return_X_y=True)
+    >>> bool(clf.score(Xt, yt) > 0.9)
+    True
+    >>> bool(np.allclose(clf.predict_proba(Xt).sum(axis=1), 1.0))
+    True
     """
 
     def __init__(
-        self,
-        n_coeffs: int | None = None,
-        detrend: bool = False,
-        normalize: bool = False,
-        weight_power: float = 0.0,
-        spread: float | str = 0.1,
-        reject_below: float | None = None,
-        classifier: BaseEstimator | None = None,
+        self, n_points: int = 64, reject: bool | float = False, unknown_label: str = "unknown"
     ):
-        self.n_coeffs = n_coeffs
-        self.detrend = detrend
-        self.normalize = normalize
-        self.weight_power = weight_power
-        self.spread = spread
-        self.reject_below = reject_below
-        self.classifier = classifier
+        self.n_points = n_points
+        self.reject = reject
+        self.unknown_label = unknown_label
 
-    def fit(self, X: ArrayLike, y: ArrayLike) -> TentacleClassifier:
-        """Fit features and classifier on joint-angle arrays.
+    # ------------------------------------------------------------------ fit
+    def _check_params(self) -> float | None:
+        if isinstance(self.n_points, bool) or not isinstance(self.n_points, numbers.Integral):
+            raise InputError(f"n_points must be an integer >= 8, got {self.n_points!r}")
+        if self.n_points < 8:
+            raise InputError(f"n_points must be an integer >= 8, got {self.n_points!r}")
+        r = self.reject
+        if r is False or r is None:
+            return None
+        if r is True:
+            return 0.05
+        if isinstance(r, numbers.Real) and 0 < float(r) < 1:
+            return float(r)
+        raise InputError(f"reject must be True, False or a fraction in (0, 1), got {r!r}")
+
+    def fit(
+        self, X: ArrayLike, y: ArrayLike, groups: ArrayLike | None = None
+    ) -> TentacleClassifier:
+        """Learn the training laps and calibrate probabilities and rejection.
 
         Parameters
         ----------
         X : array_like of shape (n_samples, n_joints)
-            Joint angles, one array per row.
+            Joint angles of wraps, one per row.
         y : array_like of shape (n_samples,)
+        groups : array_like of shape (n_samples,), optional
+            The object each wrap was measured on. Several wraps of one object
+            are near copies: with ``groups`` the calibration never matches a
+            wrap with another wrap of its own object, which keeps the
+            probabilities and the rejection distance honest.
 
         Returns
         -------
         self : TentacleClassifier
         """
+        rate = self._check_params()
         X, y = validate_data(self, X, y, dtype=np.float64)
-        if self.classifier is None:
-            clf = PNNClassifier(spread=self.spread, reject_below=self.reject_below)
-        else:
-            clf = clone(self.classifier)
-        features = FourierFeatures(
-            self.n_coeffs,
-            detrend=self.detrend,
-            normalize=self.normalize,
-            weight_power=self.weight_power,
+        check_classification_targets(y)
+        groups = np.arange(len(y)) if groups is None else np.asarray(groups)
+        if groups.shape != (len(y),):
+            raise InputError(f"groups must have one entry per wrap ({len(y)}), got {groups.shape}")
+        self.classes_, y_idx = np.unique(y, return_inverse=True)
+        split = split_laps(_three_or_more(X), self.n_points)
+        self.matcher_ = ShiftNNClassifier(signal="shape", n_harmonics=0.5, weight_power=1.0).fit(
+            split.lap, y_idx
         )
-        self.pipeline_ = Pipeline([("features", features), ("classifier", clf)]).fit(X, y)
-        self.classes_ = self.pipeline_.classes_
+        closed = np.flatnonzero(split.closed)
+        if closed.size == 0:  # no full lap anywhere: arcs of whatever was seen
+            closed = np.arange(len(y))
+        laps = split.lap[closed]
+        heads = np.cumsum(np.concatenate([laps, laps[:, ::-1]]), axis=1)
+        self.headings_ = heads - heads.mean(axis=1, keepdims=True)
+        self.arc_labels_ = np.concatenate([y_idx[closed], y_idx[closed]])
+        arc_groups = np.concatenate([groups[closed], groups[closed]])
+        rng = np.random.default_rng(0)
+        # full wraps: leave-one-out nearest distances
+        q = _subset(len(y), _CALIBRATION_QUERIES, rng)
+        d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
+        d[groups[q][:, None] == groups[None, :]] = np.inf
+        self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
+            _class_minima(d, y_idx, len(self.classes_)), y_idx[q], rate
+        )
+        # partial wraps: arcs of 0.5-0.95 laps cut from the training laps
+        q = _subset(len(closed), _PARTIAL_QUERIES, rng)
+        d = _cut_arc_distances(self.headings_[q], self.headings_, rng)
+        d[arc_groups[q][:, None] == arc_groups[None, :]] = np.inf
+        (
+            self.partial_scale_,
+            self.partial_temperature_,
+            self.partial_reject_distance_,
+            self.partial_reject_margin_,
+        ) = _calibrate(
+            _class_minima(d, self.arc_labels_, len(self.classes_)), y_idx[closed][q], rate
+        )
         return self
 
-    def _checked(self, X: ArrayLike) -> FloatArray:
+    # -------------------------------------------------------------- predict
+    def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray]:
+        """Scaled class distances (n, n_classes), closed flags (n,), laps (n,)."""
         check_is_fitted(self)
-        return validate_data(self, X, dtype=np.float64, reset=False)
-
-    def transform(self, X: ArrayLike) -> FloatArray:
-        """Feature vectors of joint-angle arrays, shape (n_samples, n_coeffs)."""
-        return self.pipeline_.named_steps["features"].transform(self._checked(X))
-
-    def predict(self, X: ArrayLike) -> np.ndarray:
-        """Class of each joint-angle array, shape (n_samples,)."""
-        return self.pipeline_.predict(self._checked(X))
+        X = validate_data(self, X, dtype=np.float64, reset=False)
+        split = split_laps(_three_or_more(X), self.n_points)
+        k = len(self.classes_)
+        out = np.empty((len(X), k))
+        closed = split.closed
+        if closed.any():
+            d = np.sqrt(self.matcher_.shift_distances(split.lap[closed]))
+            out[closed] = _class_minima(d, self.matcher_.labels_, k) / self.scale_
+        rows = np.flatnonzero(~closed)
+        if rows.size:
+            heads = np.cumsum(split.lap[rows], axis=1)
+            ms = np.array([_arc_points(split.laps[r], self.n_points) for r in rows])
+            d = np.empty((rows.size, len(self.headings_)))
+            for m in np.unique(ms):
+                sel = np.flatnonzero(ms == m)
+                d[sel] = _arc_distances(_resample_rows(heads[sel], m), self.headings_)
+            out[rows] = _class_minima(d, self.arc_labels_, k) / self.partial_scale_
+        return out, closed, split.laps
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
-        """Class probabilities, shape (n_samples, n_classes); rows sum to 1."""
-        return self.pipeline_.predict_proba(self._checked(X))
+        """Calibrated class probabilities, shape (n_samples, n_classes); rows sum to 1."""
+        s, closed, _ = self._scores(X)
+        t = np.where(closed, self.temperature_, self.partial_temperature_)[:, None]
+        return softmax(-s / t, axis=1)
+
+    def predict(self, X: ArrayLike) -> np.ndarray:
+        """Class of each wrap; ``unknown_label`` where rejected (see ``reject``)."""
+        s, closed, _ = self._scores(X)
+        pred = self.classes_[np.argmin(s, axis=1)]
+        far = np.where(closed, self.reject_distance_, self.partial_reject_distance_)
+        near = np.where(closed, self.reject_margin_, self.partial_reject_margin_)
+        ordered = np.sort(s, axis=1)
+        margin = ordered[:, 1] - ordered[:, 0] if s.shape[1] > 1 else np.full(len(s), np.inf)
+        unknown = (ordered[:, 0] > far) | (margin < near)
+        if unknown.any():
+            pred = pred.astype(object)
+            pred[unknown] = self.unknown_label
+        return pred
+
+    def grasp(self, X: ArrayLike) -> dict:
+        """Grasp state, laps seen and the best guess with its probability, per wrap.
+
+        Returns
+        -------
+        report : dict of ndarray
+            ``state`` ("partial" below one full lap, else "closed"), ``laps``
+            (laps after the approach, from the angles), ``label`` and
+            ``probability`` of the most probable class.
+        """
+        p = self.predict_proba(X)
+        X = validate_data(self, X, dtype=np.float64, reset=False)
+        split = split_laps(_three_or_more(X), self.n_points)
+        return {
+            "state": np.where(split.closed, "closed", "partial"),
+            "laps": split.laps,
+            "label": self.classes_[np.argmax(p, axis=1)],
+            "probability": p.max(axis=1),
+        }
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = False
+        # the features are outlines rebuilt from joint angles: sklearn's blob
+        # test data are not wraps, so its training-accuracy check does not apply
+        tags.classifier_tags.poor_score = True
+        return tags
+
+
+# ---------------------------------------------------------------------- helpers
+def _three_or_more(X: FloatArray) -> FloatArray:
+    """Arrays of fewer than 3 joints (no outline) get each turn split over 3 joints."""
+    return np.repeat(X, 3, axis=1) / 3 if X.shape[1] < 3 else X
+
+
+def _subset(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
+    return np.sort(rng.choice(n, k, replace=False)) if n > k else np.arange(n)
+
+
+def _class_minima(d: FloatArray, labels: np.ndarray, n_classes: int) -> FloatArray:
+    """Per query, the smallest distance to each class (inf where a class has none)."""
+    out = np.full((len(d), n_classes), np.inf)
+    for c in range(n_classes):
+        cols = labels == c
+        if cols.any():
+            out[:, c] = d[:, cols].min(axis=1)
+    return out
+
+
+def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float, ...]:
+    """Scale, softmax temperature and rejection limits from leave-one-out class distances.
+
+    Rejection has two limits, each taking half of ``rate`` of the known
+    wraps: the distance to the nearest class (far from everything seen) and
+    the margin between the nearest and the second nearest class (as close to
+    two classes as to one: typical of an object of a class not trained on).
+    """
+    nearest = s.min(axis=1)
+    finite = np.isfinite(nearest)
+    scale = float(np.median(nearest[finite])) if finite.any() else 1.0
+    scale = scale if scale > 0 else 1.0
+    s = np.where(np.isfinite(s), s / scale, 1e6)
+    rows = finite & np.isfinite(s[np.arange(len(y)), y] if len(y) else finite)
+
+    def loss(log_t: float) -> float:
+        p = softmax(-s[rows] / np.exp(log_t), axis=1)
+        return float(-np.mean(np.log(p[np.arange(rows.sum()), y[rows]] + 1e-12)))
+
+    t = 1.0
+    if rows.any():
+        t = float(np.exp(minimize_scalar(loss, bounds=(-6, 4), method="bounded").x))
+    far, near = np.inf, -np.inf
+    if rate and finite.any():
+        far = float(np.quantile(nearest[finite] / scale, 1 - rate / 2))
+        if s.shape[1] > 1:
+            ordered = np.sort(s[finite], axis=1)
+            near = float(np.quantile(ordered[:, 1] - ordered[:, 0], rate / 2))
+    return scale, t, far, near
+
+
+def _arc_points(laps: float, n_points: int) -> int:
+    """Points of the averaged lap a partial arc of ``laps`` laps covers."""
+    return int(np.clip(np.rint(laps * n_points), 3, n_points))
+
+
+def _resample_rows(h: FloatArray, m: int) -> FloatArray:
+    """Rows sampled at the centres of ``n`` equal cells, resampled to ``m`` cells."""
+    n = h.shape[1]
+    x_old = (np.arange(n) + 0.5) / n
+    x_new = (np.arange(m) + 0.5) / m
+    return np.array([np.interp(x_new, x_old, row) for row in h])
+
+
+def _cut_arc_distances(queries: FloatArray, heads: FloatArray, rng: np.random.Generator):
+    """Distances of arcs of 0.5-0.95 laps, cut at random from ``queries``, to ``heads``."""
+    n = queries.shape[1]
+    ms = np.array([_arc_points(rng.uniform(0.5, 0.95), n) for _ in queries])
+    ks = rng.integers(n, size=len(queries))
+    ext = np.concatenate([queries, queries + 2 * np.pi], axis=1)
+    d = np.empty((len(queries), len(heads)))
+    for m in np.unique(ms):
+        sel = np.flatnonzero(ms == m)
+        arcs = np.stack([ext[i, ks[i] : ks[i] + m] for i in sel])
+        d[sel] = _arc_distances(arcs, heads)
+    return d
+
+
+def _arc_distances(arc: FloatArray, heads: FloatArray, chunk: int = 8) -> FloatArray:
+    """RMS heading distance of arcs to the best stretch of each training lap.
+
+    ``arc`` (g, m) heading functions of partial wraps, ``heads`` (t, n) of
+    closed laps (one turn each). Each arc is compared with the ``m``
+    consecutive samples from every start ``k`` of every lap (one turn added
+    past the end), up to a constant (the object's rotation); all starts at
+    once by FFT cross-correlation.
+    """
+    g, m = arc.shape
+    t, n = heads.shape
+    ext = np.concatenate([heads, heads[:, :m] + 2 * np.pi], axis=1)  # (t, n + m)
+    length = n + m
+    c1 = np.concatenate([np.zeros((t, 1)), np.cumsum(ext, axis=1)], axis=1)
+    c2 = np.concatenate([np.zeros((t, 1)), np.cumsum(ext**2, axis=1)], axis=1)
+    wsum = c1[:, m : m + n] - c1[:, :n]
+    wnorm = (c2[:, m : m + n] - c2[:, :n]) - wsum**2 / m  # (t, n): centred window norms
+    a = arc - arc.mean(axis=1, keepdims=True)
+    anorm = np.sum(a**2, axis=1)
+    spec = np.fft.rfft(ext, length, axis=1)
+    out = np.empty((g, t))
+    for lo in range(0, g, chunk):
+        fa = np.conj(np.fft.rfft(a[lo : lo + chunk], length, axis=1))
+        corr = np.fft.irfft(spec[None] * fa[:, None], length, axis=2)[:, :, :n]
+        d2 = anorm[lo : lo + chunk, None, None] + wnorm[None] - 2 * corr
+        out[lo : lo + chunk] = np.sqrt(np.maximum(d2.min(axis=2), 0.0) / m)
+    return out

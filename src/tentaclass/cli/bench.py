@@ -11,11 +11,13 @@ from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from .options import finite
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ArrowHead", "OSULeaf")
-DEFAULT_METHODS = "thesis,fourier-1nn,fourier-pnn,shift-nn,1nn-euclidean,svc,minirocket"
+DEFAULT_METHODS = "tentacle,thesis,shift-nn-lp,lap-shape-nn,1nn-euclidean,svc,minirocket"
 
 
 def _load(dataset: str, links: int, mode: str, noise: float, copies: int, samples: int,
-          data_dir: Path | None, seed: int, jobs: int = 1) -> tuple[dict, str]:  # fmt: skip
+          data_dir: Path | None, seed: int, jobs: int = 1, protocol: str = "fixed-chain",
+          laps: tuple[float, float] = (1.2, 2.0),
+          offset: tuple[float, float] = (0.0, 2.0)) -> tuple[dict, str]:  # fmt: skip
     """Arrays and benchmark keywords for a dataset name, plus a title."""
     from .. import datasets
 
@@ -25,24 +27,37 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
         X = X + rng.normal(0.0, noise, X.shape)
         return {"X": X, "y": y}, f"reference shapes, {links} links, noise {noise:g}"
     if dataset == "synthetic":
-        d = datasets.synthetic_tentacle(samples, n_links=links, noise=noise, seed=seed)
-        return {
-            "X": d.data,
-            "y": d.target,
-        }, f"synthetic four classes, {links} links, noise {noise:g}"
+        d = datasets.synthetic_tentacle(samples, n_links=links, noise=noise, seed=seed, laps=laps,
+                                        offset_links=offset, mode=mode)  # fmt: skip
+        kw = {"X": d.data, "y": d.target, "failed": ~d.complete}
+        return kw, f"synthetic four classes, {links} links, {mode}, noise {noise:g}"
     if dataset == "mpeg7":
         folder = data_dir or Path("../shared/data/mpeg7-part-b")
         d = datasets.mpeg7_tentacle(folder, links, mode=mode, noise=noise, copies=copies,
-                                    seed=seed, n_jobs=jobs)  # fmt: skip
-        keep = ~np.isin(d.groups, d.groups[~d.complete])  # drop shapes a chain jammed on
-        kw = {"X": d.data[keep], "y": d.target[keep], "groups": d.groups[keep],
-              "is_eval": d.wrap_index[keep] == 0}  # fmt: skip
+                                    seed=seed, n_jobs=jobs, protocol=protocol, laps=laps,
+                                    offset_links=offset, progress=True)  # fmt: skip
+        # failed wraps stay: they count as errors
+        kw = {"X": d.data, "y": d.target, "groups": d.groups, "is_eval": d.wrap_index == 0,
+              "failed": ~d.complete}  # fmt: skip
+        what = f"{laps[0]:g}-{laps[1]:g} laps" if protocol == "fixed-chain" else "upper bound"
         return (
             kw,
-            f"MPEG-7 wraps, {links} links, {mode}, noise {noise:g}, {copies} wrap(s) per shape",
+            f"MPEG-7 wraps, {protocol} ({what}), {links} links, {mode}, noise {noise:g}, "
+            f"{copies} wrap(s) per shape, {int((~d.complete).sum())} failed",
         )
     d = datasets.ucr_shapes(dataset)
     return {"X": d.data, "y": d.target, "split": d.split}, f"UCR {dataset}, official split"
+
+
+def _pair(ctx, param, value):
+    """'low,high' -> (low, high), both finite and >= 0, low <= high."""
+    try:
+        lo, hi = (float(v) for v in str(value).split(","))
+    except ValueError:
+        raise click.BadParameter(f"expected two numbers 'low,high', got {value!r}") from None
+    if not (np.isfinite(lo) and np.isfinite(hi)) or lo < 0 or hi < lo:
+        raise click.BadParameter(f"expected 0 <= low <= high, got {value!r}")
+    return lo, hi
 
 
 @click.command()
@@ -62,11 +77,18 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
               help="MPEG-7 folder (default ../shared/data/mpeg7-part-b).")  # fmt: skip
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path),
               default=Path("bench-results"), show_default=True)  # fmt: skip
+@click.option("--protocol", type=click.Choice(["fixed-chain", "one-lap"]), default="fixed-chain",
+              show_default=True, help="MPEG-7: one chain of unit links, or one lap by a link "
+              "length tuned per shape (an upper bound).")  # fmt: skip
+@click.option("--laps", default="1.2,2", show_default=True, callback=_pair,
+              help="Synthetic / fixed chain: laps wrapped (0.5,0.95: partial).")  # fmt: skip
+@click.option("--offset", default="0,2", show_default=True, callback=_pair,
+              help="Synthetic / fixed chain: range of the base's stand-off, in links.")  # fmt: skip
 @click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
 @click.option("--jobs", type=click.IntRange(min=-1), default=1, show_default=True,
               help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
-def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, seed,
-          jobs):  # fmt: skip
+def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, protocol,
+          laps, offset, seed, jobs):  # fmt: skip
     """Stratified k-fold accuracy (or the official split), fit and predict time.
 
     Writes a markdown table and the best method's confusion matrix to OUT.
@@ -80,7 +102,8 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
                                  param_hint="--methods")  # fmt: skip
     if jobs == 0:
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
-    kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed, jobs)
+    kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed, jobs,
+                      protocol, laps, offset)  # fmt: skip
     X = kw.pop("X")
     y = kw.pop("y")
     results = run_benchmark(X, y, names, n_splits=folds, seed=seed, progress=True, **kw)
@@ -90,6 +113,10 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     stem = (
         f"{dataset}-{links}-{mode}-noise{noise:g}" if dataset in ("mpeg7", "synthetic") else dataset
     )
+    if dataset == "mpeg7":
+        stem += f"-{protocol}" + (
+            f"-laps{laps[0]:g}-{laps[1]:g}" if protocol == "fixed-chain" else ""
+        )
     (out / f"{stem}.md").write_text(table)
     scored = [r for r in results if not r.error]
     if scored:

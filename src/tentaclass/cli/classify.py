@@ -17,25 +17,26 @@ MIN_LAPS = 0.05
 
 def default_model(n_links: int) -> Any:
     """The one-lap reference model: the four thesis classes at ``n_links`` links."""
-    from ..classifiers import TentacleClassifier
+    from ..classifiers import FourierClassifier
     from ..datasets import reference_tentacle
 
     X, y = reference_tentacle(n_links, return_X_y=True)
-    return TentacleClassifier(detrend=True, spread=0.5).fit(X, y)
+    return FourierClassifier(detrend=True, spread=0.5).fit(X, y)
 
 
 def model_from_file(path: Path) -> tuple[Any, dict]:
     """A model of joint angles from a ``.tcm`` file, and its info."""
     from sklearn.pipeline import Pipeline
 
-    from ..classifiers import TentacleClassifier
+    from ..classifiers import FourierClassifier, TentacleClassifier
     from ..io import load_model, model_info
 
     model = load_model(path)
-    if not isinstance(model, TentacleClassifier | Pipeline):
+    if not isinstance(model, TentacleClassifier | FourierClassifier | Pipeline):
         raise ValueError(
             f"{path}: holds a bare {type(model).__name__} of feature vectors; classify needs "
-            "a model of joint angles (from 'tentaclass train' or a TentacleClassifier)"
+            "a model of joint angles (from 'tentaclass train', a TentacleClassifier or a "
+            "FourierClassifier)"
         )
     return model, model_info(path)
 
@@ -150,6 +151,9 @@ def classify(
             raise ValueError(
                 f"{name} was trained without rejection: train it again with --reject-rate"
             )
+        if not reject and model_file is None:  # the bundled model rejects on request only
+            rejected = labels == getattr(model, "unknown_label", "unknown")
+            labels[rejected] = model.classes_[np.argmax(proba[rejected], axis=1)]
     elif reject or reject_below is not None:
         threshold = reject_below if reject_below is not None else info.get("reject_below")
         if not isinstance(threshold, int | float):

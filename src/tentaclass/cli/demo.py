@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from ..classifiers import TentacleClassifier
+from ..classifiers import FourierClassifier
 from ..datasets import thesis_tentacle
 from .options import finite
 
@@ -114,7 +114,7 @@ def demo(out: Path, noise: float, seed: int, no_figures: bool) -> None:
     console = Console()
     for n_links in (16, 64):
         X, y = thesis_tentacle(n_links, return_X_y=True)
-        model = TentacleClassifier(detrend=True).fit(X, y)
+        model = FourierClassifier(detrend=True).fit(X, y)
         table = Table(title=f"Thesis shapes, {n_links} links: trained on the 4 arrays")
         for col in ("variants", "arrays", "correct", "accuracy"):
             table.add_column(col, justify="right" if col != "variants" else "left")

@@ -483,13 +483,13 @@ def _train_on_arrays(
     data: Path, out: Path, classifier: str, spread: float | str, n_coeffs: int | None,
     detrend: bool,
 ) -> None:  # fmt: skip
-    from ..classifiers import RBFNetworkClassifier, TentacleClassifier
+    from ..classifiers import FourierClassifier, RBFNetworkClassifier
 
     X, y = read_training_file(data)
     if classifier == "pnn":
-        model = TentacleClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
+        model = FourierClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
     else:
-        model = TentacleClassifier(
+        model = FourierClassifier(
             n_coeffs=n_coeffs, detrend=detrend, classifier=RBFNetworkClassifier(spread=spread)
         )
     model.fit(X, y)

@@ -2,12 +2,14 @@
 
 from ._thesis import THESIS_CLASSES, reference_tentacle, thesis_scanner, thesis_tentacle
 from ._ucr import UCR_SHAPES, ucr_shapes
-from ._wraps import chain_wraps, mpeg7_tentacle, synthetic_tentacle
+from ._wraps import PROTOCOLS, chain_wraps, clear_cache, mpeg7_tentacle, synthetic_tentacle
 
 __all__ = [
+    "PROTOCOLS",
     "THESIS_CLASSES",
     "UCR_SHAPES",
     "chain_wraps",
+    "clear_cache",
     "mpeg7_tentacle",
     "reference_tentacle",
     "synthetic_tentacle",

@@ -102,6 +102,61 @@ def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut"
     return angles, laps, winding, complete
 
 
+def _wrap_rows(outlines, n_links, lengths, starts, offsets, cw, mode="taut", centres=None):
+    """:func:`_wrap_both_ways`, but a wrap the generator refuses fails alone.
+
+    ``wrap_many`` raises for a whole batch when one wrap is impossible (a
+    straight approach through the object, a link longer than the object); then
+    the rows are wrapped one by one and the refused ones come back as NaN rows
+    with ``complete`` False, so that the caller can count them.
+    """
+    try:
+        return _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode, centres)
+    except InputError:
+        pass
+    m = len(outlines)
+    angles = np.full((m, n_links), np.nan)
+    laps, winding = np.full(m, np.nan), np.full(m, np.nan)
+    complete = np.zeros(m, bool)
+    for i in range(m):
+        c = None if centres is None else centres[i : i + 1]
+        try:
+            a, lp, w, ok = _wrap_both_ways([outlines[i]], n_links, lengths[i : i + 1],
+                                           starts[i : i + 1], offsets[i : i + 1], cw[i : i + 1],
+                                           mode, c)  # fmt: skip
+        except InputError:
+            continue
+        angles[i], laps[i], winding[i], complete[i] = a[0], lp[0], w[0], ok[0]
+    return angles, laps, winding, complete
+
+
+def _fixed_chain_wraps(outlines, n_links, lap_target, offsets, starts, cw, mode, iterations=1):
+    """Wraps of one chain of unit links, each object scaled to take ``lap_target`` laps.
+
+    The objects (centred, any size) are first scaled so that the support the
+    chain lies on (the outline in ``"hug"`` mode, its convex hull in
+    ``"taut"`` mode) is ``(n_links - offset) / lap_target`` long, then
+    rescaled ``iterations`` times by the laps the chain actually made (chords
+    are shorter than the arcs they span).
+
+    Returns angles (b, n_links) with NaN after the last placed link, the laps
+    made (b,), complete (b,) and the scale applied to each outline (b,).
+    """
+    polys = [Polygon(o) for o in outlines]
+    support = np.array([p.convex_hull.length if mode == "taut" else p.length for p in polys])
+    scale = np.maximum(n_links - offsets, 1.0) / lap_target / support
+    ones = np.ones(len(outlines))
+    for it in range(iterations + 1):
+        scaled = [o * f for o, f in zip(outlines, scale, strict=True)]
+        angles, laps, _, done = _wrap_rows(scaled, n_links, ones, starts, offsets, cw, mode)
+        if it == iterations:
+            break
+        ok = done & np.isfinite(laps) & (laps > 0.05)
+        scale = np.where(ok, scale * np.where(ok, laps, 1.0) / lap_target, scale)
+    laps = np.where(done, laps, np.nan)
+    return angles, laps, done, scale
+
+
 def synthetic_tentacle(
     n_samples: int,
     n_links: int = 16,
@@ -109,67 +164,81 @@ def synthetic_tentacle(
     laps: tuple[float, float] = (1.0, 2.0),
     offset_links: tuple[float, float] = (0.0, 3.0),
     noise: float | tuple[float, float] = (0.0, 0.05),
+    mode: str = "taut",
     seed: int = 0,
-) -> Bunch:
-    """Wraps of random squares, circles, triangles and rectangles.
+    return_X_y: bool = False,
+) -> Bunch | tuple:
+    """Wraps of random squares, circles, triangles and rectangles by one chain.
 
-    Each sample draws a class, a size such that the chain covers ``laps`` laps
-    after its approach, a rectangle aspect ratio in [1.2, 4] or triangle
-    angles (all >= 25 degrees), a rotation, a start point, a direction, an
-    offset of ``offset_links`` links and a joint-noise sigma from ``noise``.
-    Links have length 1.
+    One chain of ``n_links`` unit links; each sample draws a class, a size such
+    that the chain covers ``laps`` laps after its approach, a rectangle aspect
+    ratio in [1.2, 4] or triangle angles (all >= 25 degrees), a rotation, a
+    start point, a direction, an offset of ``offset_links`` links and a
+    joint-noise sigma from ``noise``.
 
     Parameters
     ----------
     n_samples : int
     n_links : int, default=16
     laps : (float, float), default=(1, 2)
-        Range of laps wrapped; use ``(0.5, 1.0)`` for partial wraps.
+        Range of laps wrapped; use ``(0.5, 0.95)`` for partial wraps.
     offset_links : (float, float), default=(0, 3)
         Range of the base's stand-off, in link lengths.
     noise : float or (float, float), default=(0, 0.05)
         Joint-noise sigma in radians, or the range it is drawn from.
+    mode : {"taut", "hug"}, default="taut"
     seed : int, default=0
+    return_X_y : bool, default=False
+        Return ``(data, target)`` instead of a Bunch.
 
     Returns
     -------
     data : Bunch
         ``data`` (n_samples, n_links) angles, ``target`` (n_samples,) class,
         ``laps`` (n_samples,) laps actually wrapped, ``offset`` (n_samples,)
-        stand-off in links, ``noise`` (n_samples,) sigma used.
+        stand-off in links, ``noise`` (n_samples,) sigma used, ``complete``
+        (n_samples,) False where the generator could not place every link (the
+        row is NaN after the last placed link; count it as an error).
 
     Examples
     --------
     >>> d = synthetic_tentacle(8, 16, seed=1)
     >>> d.data.shape, set(d.target.tolist()) <= {'circle', 'rectangle', 'square', 'triangle'}
     ((8, 16), True)
+    >>> X, y = synthetic_tentacle(8, 16, seed=1, return_X_y=True)
+    >>> X.shape, y.shape
+    ((8, 16), (8,))
     """
     n_samples = check_positive_int(n_samples, "n_samples")
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     nlo, nhi = _noise_range(noise)
     laps = _range(laps, "laps", allow_zero=False)
     offset_links = _range(offset_links, "offset_links", allow_zero=True)
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
-        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
+    _check_seed(seed)
+    if mode not in ("taut", "hug"):
+        raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
     rng = np.random.default_rng(seed)
     cls = rng.choice(THESIS_CLASSES, n_samples)
     lap_target = rng.uniform(*laps, n_samples)
     off = rng.uniform(*offset_links, n_samples)
-    perimeter = np.maximum(n_links - off, 3.0) / lap_target
-    outlines = [_random_outline(c, p, rng) for c, p in zip(cls, perimeter, strict=True)]
+    outlines = [_random_outline(c, 1.0, rng) for c in cls]
     starts = rng.uniform(0, 1, n_samples)
     cw = rng.random(n_samples) < 0.5
     sigma = rng.uniform(nlo, nhi, n_samples)
-    ones = np.ones(n_samples)
-    # Chords are shorter than the arcs they span: rescale once so that the chain
-    # covers the drawn number of laps.
-    _, got_laps, _, done = _wrap_both_ways(outlines, n_links, ones, starts, off, cw)
-    scale = np.where(done & (got_laps > 0), got_laps / lap_target, 1.0)
-    outlines = [o * f for o, f in zip(outlines, scale, strict=True)]
-    angles, got_laps, _, _ = _wrap_both_ways(outlines, n_links, ones, starts, off, cw)
+    angles, got_laps, done, _ = _fixed_chain_wraps(
+        outlines, n_links, lap_target, off, starts, cw, mode
+    )
     angles = angles + rng.normal(0.0, 1.0, angles.shape) * sigma[:, None]
-    return Bunch(data=angles, target=cls, laps=got_laps, offset=off, noise=sigma,
-                 DESCR="Synthetic wraps of the four thesis classes (unit links).")  # fmt: skip
+    if return_X_y:
+        return angles, cls
+    descr = "Synthetic wraps of the four thesis classes by one chain of unit links."
+    return Bunch(data=angles, target=cls, laps=got_laps, offset=off, noise=sigma, complete=done,
+                 DESCR=descr)  # fmt: skip
+
+
+def _check_seed(seed: object) -> None:
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
+        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
 
 
 def _generator_digest() -> str:
@@ -183,15 +252,53 @@ def _generator_digest() -> str:
     h = hashlib.sha256()
     for f in sorted(Path(wrapping.__file__).parent.glob("*.py")):
         h.update(f.read_bytes())
-    for func in (_winding, _wrap_both_ways, _bisect_lengths, _closure_gaps, _one_lap_wraps):
+    for func in (
+        _winding,
+        _wrap_both_ways,
+        _wrap_rows,
+        _fixed_chain_wraps,
+        _rotated,
+        _fixed_chain_mpeg7,
+        _bisect_lengths,
+        _closure_gaps,
+        _one_lap_wraps,
+    ):
         h.update(inspect.getsource(func).encode())
     return h.hexdigest()[:16]
 
 
+def _cache_dir() -> Path:
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "tentaclass"
+
+
 def _cache_path(key: dict) -> Path:
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "tentaclass"
     digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
-    return base / f"mpeg7-wraps-{digest}.npz"
+    return _cache_dir() / f"mpeg7-wraps-{digest}.npz"
+
+
+def _folder_key(folder: str | Path) -> dict:
+    """What the silhouettes in a folder are: its path and every file's name, size and mtime."""
+    path = Path(folder).expanduser().resolve()
+    files = sorted(path.glob("*.png"), key=lambda f: f.name.lower())
+    return {
+        "folder": str(path),
+        "files": [[f.name, f.stat().st_size, f.stat().st_mtime_ns] for f in files],
+    }
+
+
+def clear_cache() -> int:
+    """Delete every cached wrap file; returns how many were removed.
+
+    Examples
+    --------
+    >>> isinstance(clear_cache(), int)
+    True
+    """
+    removed = 0
+    for f in _cache_dir().glob("mpeg7-wraps-*.npz"):
+        f.unlink(missing_ok=True)
+        removed += 1
+    return removed
 
 
 def _one_lap_lengths(outlines, n_links, starts, cw, mode, n_jobs=None, chunk=32):
@@ -279,23 +386,83 @@ def _one_lap_wraps(outlines, n_links, mode, copies, seed, retries=8, max_gap=0.5
     return angles
 
 
+PROTOCOLS = ("one-lap", "fixed-chain")
+
+
+def _rotated(outline: np.ndarray, theta: float) -> np.ndarray:
+    c, s = np.cos(theta), np.sin(theta)
+    centred = outline - outline.mean(axis=0)
+    return centred @ np.array([[c, s], [-s, c]])
+
+
+def _fixed_chain_mpeg7(outlines, n_links, mode, copies, seed, laps, offset_links,
+                       progress=False, chunk=50):  # fmt: skip
+    """Noise-free fixed-chain wraps of every outline, copy after copy.
+
+    Generated in chunks of ``chunk`` wraps (each wrap is independent, so the
+    result does not depend on it), with a rich progress bar on stderr if
+    ``progress``.
+    """
+    rng = np.random.default_rng(seed)
+    m = len(outlines) * copies
+    lap_target = rng.uniform(*laps, m)
+    off = rng.uniform(*offset_links, m)
+    starts = rng.uniform(0, 1, m)
+    cw = rng.random(m) < 0.5
+    theta = rng.uniform(0, 2 * np.pi, m)
+    rows = [_rotated(outlines[i % len(outlines)], t) for i, t in zip(range(m), theta, strict=True)]
+    angles = np.full((m, n_links), np.nan)
+    got, done = np.full(m, np.nan), np.zeros(m, bool)
+    bar = None
+    if progress:
+        from rich.progress import Progress
+
+        bar = Progress(transient=True)
+        bar.start()
+        task = bar.add_task(f"wrapping ({mode})", total=m)
+    try:
+        for lo in range(0, m, chunk):
+            part = slice(lo, lo + chunk)
+            angles[part], got[part], done[part], _ = _fixed_chain_wraps(
+                rows[part], n_links, lap_target[part], off[part], starts[part], cw[part], mode
+            )
+            if bar is not None:
+                bar.update(task, completed=min(lo + chunk, m))
+    finally:
+        if bar is not None:
+            bar.stop()
+    return angles, got, done, off
+
+
 def mpeg7_tentacle(
     folder: str | Path,
     n_links: int = 64,
     mode: str = "taut",
     *,
+    protocol: str = "one-lap",
+    laps: tuple[float, float] = (1.2, 2.0),
+    offset_links: tuple[float, float] = (0.0, 2.0),
     noise: float = 0.0,
     copies: int = 1,
     seed: int = 0,
     max_vertices: int = 1000,
     cache: bool = True,
     n_jobs: int | None = None,
+    progress: bool = False,
 ) -> Bunch:
-    """One-lap tentacle wraps of every MPEG-7 Part B silhouette.
+    """Tentacle wraps of every MPEG-7 Part B silhouette.
 
-    Each silhouette is wrapped from a random start point in a random direction
-    by ``n_links`` equal links whose length closes exactly one lap (found by
-    bisection), in the given mode, and joint noise is added.
+    Two protocols:
+
+    - ``"fixed-chain"``: what a robot meets. One chain of ``n_links`` unit
+      links; each silhouette is rotated at random and scaled at random so that
+      the chain wraps a number of laps drawn from ``laps`` after an approach of
+      ``offset_links`` links, from a random start point in a random direction.
+      Wraps the generator cannot complete are kept, flagged in ``complete``:
+      score them as errors.
+    - ``"one-lap"``: the link length is tuned per silhouette (by bisection) so
+      that the chain closes exactly one lap, with no approach. No chain does
+      that on a robot: results on it are an upper bound.
 
     Parameters
     ----------
@@ -303,71 +470,104 @@ def mpeg7_tentacle(
         The MPEG-7 CE-Shape-1 Part B folder (see :func:`tentaclass.shapes.load_mpeg7`).
     n_links : int, default=64
     mode : {"taut", "hug"}, default="taut"
+    protocol : {"one-lap", "fixed-chain"}, default="one-lap"
+    laps : (float, float), default=(1.2, 2.0)
+        Fixed chain: range of the laps wrapped after the approach;
+        ``(0.5, 0.95)`` gives partial wraps.
+    offset_links : (float, float), default=(0, 2)
+        Fixed chain: range of the base's stand-off, in links.
     noise : float, default=0.0
         Joint-noise sigma in radians.
     copies : int, default=1
-        Wraps per silhouette, each from its own start point and direction. Copy
-        0 is the one to score; the others can serve as extra training data.
+        Wraps per silhouette, each with its own draws. Copy 0 is the one to
+        score; the others can serve as extra training data.
     seed : int, default=0
     max_vertices : int, default=1000
         Outlines are resampled to at most this many vertices first.
     cache : bool, default=True
         Keep the outlines and the noise-free wraps on disk
-        (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``): the
-        bisection takes a while for 1400 shapes. ``False`` writes nothing.
+        (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``). The key
+        covers the folder, every file's name, size and modification time, all
+        parameters but ``noise`` and the generator's code. ``False`` reads and
+        writes nothing; :func:`clear_cache` deletes the cached wraps.
     n_jobs : int, optional
-        Processes for the bisection, as in joblib: -1 all cores, None one
-        (unless a ``joblib.parallel_config`` block says otherwise). The wraps
-        do not depend on it.
+        One-lap protocol: processes for the bisection, as in joblib (-1 all
+        cores, None one). The wraps do not depend on it.
+    progress : bool, default=False
+        Fixed chain: show a progress bar (rich, on stderr) while wrapping.
 
     Returns
     -------
     data : Bunch
         ``data`` (1400 * copies, n_links), ``target`` class names, ``groups``
-        the silhouette's index, ``wrap_index`` the copy number, ``names`` file names,
-        ``complete`` False where the chain jammed before placing every link
-        (possible in ``"hug"`` mode; those rows are NaN - drop them, or drop
-        their silhouettes with ``groups``), ``closure_gap`` how far (in links)
-        the noise-free chain's last joint ends from its first. From some start
-        points no link length closes the lap (in ``"hug"`` mode the last joint
-        jumps as the link length crosses the width of a concavity the chain can
-        enter); such wraps are retried from up to eight other random start
-        points and the best kept, so a few silhouettes keep a gap of a link or
-        more.
+        the silhouette's index, ``wrap_index`` the copy number, ``names`` file
+        names, ``complete`` False where the wrap failed (the chain jammed
+        before placing every link, or the generator refused it; the row is NaN
+        after the last placed link), ``laps`` the laps wrapped (fixed chain;
+        NaN for the one-lap protocol), ``offset`` the stand-off in links,
+        ``closure_gap`` how far (in links) the noise-free chain's last joint
+        ends from its first. One-lap protocol: from some start points no link
+        length closes the lap; such wraps are retried from up to eight other
+        random start points and the best kept.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> folder = Path("../shared/data/mpeg7-part-b")
+    >>> d = mpeg7_tentacle(folder, 64, "hug", protocol="fixed-chain") if folder.is_dir() else None
     """
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
     noise = check_positive_float(noise, "noise", allow_zero=True)
     if mode not in ("taut", "hug"):
         raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
+    if protocol not in PROTOCOLS:
+        raise InputError(f"protocol must be one of {', '.join(PROTOCOLS)}, got {protocol!r}")
+    laps = _range(laps, "laps", allow_zero=False)
+    offset_links = _range(offset_links, "offset_links", allow_zero=True)
+    _check_seed(seed)
     outlines, labels, names = load_mpeg7(folder, max_vertices=max_vertices, cache=cache)
-    key = {"n": n_links, "mode": mode, "copies": copies, "seed": seed, "mv": max_vertices,
-           "files": len(names), "code": _generator_digest()}  # fmt: skip
+    key = {"n": n_links, "mode": mode, "copies": copies, "seed": int(seed), "mv": max_vertices,
+           "protocol": protocol, "code": _generator_digest(), **_folder_key(folder)}  # fmt: skip
+    if protocol == "fixed-chain":
+        key.update(laps=list(laps), offset_links=list(offset_links))
     path = _cache_path(key)
+    n_shapes = len(outlines)
     if cache and path.exists():
         with np.load(path, allow_pickle=False) as f:
-            angles = f["angles"]
+            angles, got, done, off = f["angles"], f["laps"], f["complete"], f["offset"]
     else:
-        angles = _one_lap_wraps(outlines, n_links, mode, copies, seed, n_jobs=n_jobs)
+        if protocol == "fixed-chain":
+            angles, got, done, off = _fixed_chain_mpeg7(outlines, n_links, mode, copies, seed,
+                                                        laps, offset_links, progress)  # fmt: skip
+        else:
+            angles = _one_lap_wraps(outlines, n_links, mode, copies, seed, n_jobs=n_jobs)
+            done = np.all(np.isfinite(angles), axis=1)
+            got, off = np.full(len(angles), np.nan), np.zeros(len(angles))
         if cache:
             path.parent.mkdir(parents=True, exist_ok=True)
-            np.savez(path, angles=angles)
+            tmp = path.with_suffix(".tmp.npz")
+            np.savez(tmp, angles=angles, laps=got, complete=done, offset=off)
+            tmp.replace(path)
     gap = _closure_gaps(angles)
+    gap[~done] = np.nan
     rng = np.random.default_rng([seed, 1])
     if noise > 0:
         angles = angles + rng.normal(0.0, noise, angles.shape)
-    n_shapes = len(outlines)
-    complete = np.all(np.isfinite(angles), axis=1)
-    gap[~complete] = np.nan
+    what = f"one-lap wraps of {n_links} tuned links"
+    if protocol == "fixed-chain":
+        what = f"one chain of {n_links} unit links, {laps[0]:g}-{laps[1]:g} laps"
     return Bunch(
-        complete=complete,
+        complete=done,
         closure_gap=gap,
         data=angles,
+        laps=got,
+        offset=off,
         target=np.tile(labels, copies),
         groups=np.tile(np.arange(n_shapes), copies),
         wrap_index=np.repeat(np.arange(copies), n_shapes),
         names=np.tile(np.array(names), copies),
-        DESCR=f"MPEG-7 Part B, one-lap {mode} wraps of {n_links} links.",
+        DESCR=f"MPEG-7 Part B, {mode} wraps: {what}.",
     )
 
 
@@ -486,25 +686,14 @@ def chain_wraps(
     sigma = rng.uniform(nlo, nhi, total)
     hug = rng.random(total) < 0.5 if mode == "both" else np.full(total, mode == "hug")
     theta = rng.uniform(0, 2 * np.pi, total)
-    unit = []
-    for s in shapes:  # centred, perimeter 1, and the diameter of that
-        c = s - s.mean(axis=0)
-        c = c / Polygon(c).length
-        unit.append((c, _diameter(c)))
+    # joint angles do not depend on the scale: wrap with unit links, objects in link lengths
+    unit = [(s - s.mean(axis=0)) / _diameter(s) for s in shapes]  # diameter 1
+    objs = [_rotated(unit[i], t) for i, t in zip(index, theta, strict=True)]
     if laps is not None:
         target = rng.uniform(*laps, total)
-        size = (n_links - off) * ell / target  # perimeter
     else:
-        target = np.full(total, np.nan)
-        size = rng.uniform(*diameters, total) * ell / np.array([unit[i][1] for i in index])
-    # a link must fit across the object
-    size = np.maximum(size, 1.02 * ell / np.array([unit[i][1] for i in index]))
-    objs = []
-    for i in range(total):
-        c, s = np.cos(theta[i]), np.sin(theta[i])
-        rot = np.array([[c, s], [-s, c]])
-        objs.append(unit[index[i]][0] * size[i] @ rot)
-    lengths = np.full(total, ell)
+        size = rng.uniform(*diameters, total)
+        objs = [o * d for o, d in zip(objs, size, strict=True)]
     out = np.full((total, n_links), np.nan)
     got = np.zeros(total)
     done = np.zeros(total, bool)
@@ -516,19 +705,13 @@ def chain_wraps(
             if sub.size == 0:
                 continue
             objs_sub = [objs[i] for i in sub]
-            mode_sub = "hug" if flag else "taut"
-            if laps is not None:  # chords are shorter than arcs: rescale once
-                _, g, _, ok = _wrap_both_ways(
-                    objs_sub, n_links, lengths[sub], starts[sub], off[sub] * ell, cw[sub], mode_sub
+            args = (starts[sub], cw[sub], "hug" if flag else "taut")
+            if laps is not None:  # scaled to the laps, rescaled once by the laps made
+                a, g, ok, _ = _fixed_chain_wraps(objs_sub, n_links, target[sub], off[sub], *args)
+            else:
+                a, g, _, ok = _wrap_rows(
+                    objs_sub, n_links, np.ones(sub.size), args[0], off[sub], args[1], args[2]
                 )
-                for j, i in enumerate(sub):
-                    if ok[j] and g[j] > 0:
-                        f = max(g[j] / target[i], 1.02 * ell / (unit[index[i]][1] * size[i]))
-                        objs[i] = objs[i] * f
-                objs_sub = [objs[i] for i in sub]
-            a, g, _, ok = _wrap_both_ways(
-                objs_sub, n_links, lengths[sub], starts[sub], off[sub] * ell, cw[sub], mode_sub
-            )
             out[sub], got[sub], done[sub] = a, g, ok
         if progress is not None:
             progress(int(rows[-1]) + 1, total)

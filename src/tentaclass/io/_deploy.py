@@ -55,8 +55,9 @@ def bundled_model(n_links: int) -> tuple[Any, dict]:
     """The shipped model of the four thesis classes for a chain of ``n_links`` links.
 
     Trained on generated wraps of squares, circles, equilateral triangles and
-    rectangles (aspect 2-4) by one chain: 0.8-3.2 laps, a stand-off of 0-3.5
-    links, joint noise up to 0.025 rad, both directions, taut and hug.
+    rectangles (aspect 2-4) by one chain: 0.45-3.2 laps, a stand-off of 0-3.5
+    links, joint noise up to 0.025 rad, both directions, taut and hug
+    (``benchmarks/build_default_models.py``).
 
     Parameters
     ----------
@@ -165,10 +166,14 @@ def best_class_score(model: Any, X: ArrayLike) -> FloatArray:
 
     Examples
     --------
-    >>> model, _ = bundled_model(16)
-    >>> square = np.tile([0, 0, 0, np.pi / 2], 4)[None]
-    >>> bool(best_class_score(model, square)[0] > 0.01)
-    True
+    >>> from sklearn.pipeline import make_pipeline
+    >>> from tentaclass.classifiers import PNNClassifier
+    >>> from tentaclass.datasets import thesis_tentacle
+    >>> from tentaclass.features import FourierFeatures
+    >>> X, y = thesis_tentacle(16, return_X_y=True)
+    >>> model = make_pipeline(FourierFeatures(), PNNClassifier(spread=0.5)).fit(X, y)
+    >>> best_class_score(model, X).round(3).tolist()  # each array is a training pattern
+    [1.0, 1.0, 1.0, 1.0]
     """
     if hasattr(model, "novelty_scores"):
         return np.asarray(model.novelty_scores(X), dtype=float)

@@ -618,7 +618,7 @@ def model_info(path: str | os.PathLike) -> dict:
     >>> from importlib.resources import files
     >>> info = model_info(files("tentaclass.data") / "default-16.tcm")
     >>> info["chain"]["n_links"], info["estimator"]
-    (16, 'TentacleClassifier')
+    (16, 'Pipeline')
     """
     meta, _, path = _open(path)
     info = meta.get("info", {})

@@ -1,7 +1,8 @@
 """Reading version-1 model files.
 
-Version 1 held a :class:`~tentaclass.classifiers.TentacleClassifier` whose
-classifier is a PNN or an RBF network, a ``Pipeline`` of
+Version 1 held a ``TentacleClassifier`` (today's
+:class:`~tentaclass.classifiers.FourierClassifier`) whose classifier is a
+PNN or an RBF network, a ``Pipeline`` of
 :class:`~tentaclass.features.FourierFeatures` and one of those, or a bare
 PNN or RBF network, in a fixed layout. Files of that version are still read;
 new files are written in the generic layout of ``_model_file``.
@@ -12,12 +13,19 @@ from __future__ import annotations
 import numpy as np
 from sklearn.pipeline import Pipeline
 
-from ..classifiers import PNNClassifier, RBFNetworkClassifier, TentacleClassifier
+from ..classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
 from ..errors import ModelFileError
 from ..features import FourierFeatures
 from ._model_file import _field
 
-_KINDS = ("TentacleClassifier", "Pipeline", "PNNClassifier", "RBFNetworkClassifier")
+#: "TentacleClassifier" was the name of today's FourierClassifier (features + classifier).
+_KINDS = (
+    "TentacleClassifier",
+    "FourierClassifier",
+    "Pipeline",
+    "PNNClassifier",
+    "RBFNetworkClassifier",
+)
 _CLASSIFIER_ARRAYS = {
     "pnn": {"patterns": "f8", "class_count": "i8"},
     "rbf": {"centers": "f8", "coef": "f8", "intercept": "f8"},
@@ -153,14 +161,9 @@ def build_v1(meta: dict, arrays: dict[str, np.ndarray]) -> object:
         "reject_below": _field(tp, "reject_below", (int, float, type(None)), where),
     }
     if not custom and not isinstance(clf, PNNClassifier):
-        raise ModelFileError("metadata: a TentacleClassifier without custom classifier uses a PNN")
+        raise ModelFileError(f"metadata: a {kind} without custom classifier uses a PNN")
     pipeline = Pipeline([("features", features), ("classifier", clf)])
-    try:
-        model = TentacleClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
-    except TypeError:
-        # TentacleClassifier is no longer features + classifier: the pipeline
-        # it held predicts exactly as it did.
-        return pipeline
+    model = FourierClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
     model.pipeline_ = pipeline
     model.classes_ = clf.classes_
     model.n_features_in_ = features.n_features_in_

@@ -1,0 +1,118 @@
+import numpy as np
+import pytest
+from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from tentaclass import TentacleClassifier, wrap_many
+from tentaclass.datasets import synthetic_tentacle
+from tentaclass.shapes import circle, rectangle, square, triangle
+
+
+@parametrize_with_checks([TentacleClassifier()])
+def test_sklearn_compatible(estimator, check):
+    check(estimator)
+
+
+SHAPES = {
+    "square": square(1.0),
+    "circle": circle(0.5, n_points=256),
+    "triangle": triangle([(0.0, 0.0), (1.0, 0.0), (0.3, 0.8)]),
+    "rectangle": rectangle(2.5, 1.0),
+}
+
+
+@pytest.fixture(scope="module")
+def model():
+    X, y = synthetic_tentacle(400, 32, laps=(0.9, 3.0), noise=(0.0, 0.03), seed=11,
+                              return_X_y=True)  # fmt: skip
+    return TentacleClassifier().fit(X, y)
+
+
+def wraps_of(outline, laps, offset, n_links=32, starts=(0.1, 0.45, 0.8), direction="ccw"):
+    """Unit-link wraps of ``outline`` scaled so the chain covers about ``laps`` laps."""
+    from shapely.geometry import Polygon
+
+    o = np.asarray(outline, float)
+    o = (o - o.mean(axis=0)) * (n_links - offset) / laps / Polygon(o).length
+    b = wrap_many(o, n_links, 1.0, starts=np.array(starts), offset=offset, direction=direction)
+    return b.angles
+
+
+@pytest.mark.parametrize("laps", [1.0, 1.5, 2.2])
+@pytest.mark.parametrize("offset", [0.0, 2.0])
+def test_thesis_shapes_any_laps_and_offset(model, laps, offset, rng):
+    for name, outline in SHAPES.items():
+        q = wraps_of(outline, laps, offset)
+        for noise in (0.0, 0.02):
+            pred = model.predict(q + rng.normal(0.0, noise, q.shape))
+            assert pred.tolist() == [name] * len(q), (name, laps, offset, noise)
+
+
+def test_direction_and_rotation_do_not_matter(model):
+    q = np.vstack([wraps_of(o, 1.6, 1.0) for o in SHAPES.values()])
+    p = model.predict_proba(q)
+    # clockwise: the same object mirrored gives the negated angles
+    np.testing.assert_allclose(model.predict_proba(-q), p, atol=1e-9)
+    # a rotated object: the same joint angles (they are relative)
+    theta = 0.7
+    rot = np.array([[np.cos(theta), np.sin(theta)], [-np.sin(theta), np.cos(theta)]])
+    q_rot = wraps_of(SHAPES["triangle"] @ rot, 1.6, 1.0)
+    np.testing.assert_allclose(q_rot, wraps_of(SHAPES["triangle"], 1.6, 1.0), atol=1e-6)
+    np.testing.assert_allclose(model.predict_proba(q_rot), model.predict_proba(q_rot[::-1])[::-1])
+
+
+def test_start_point_does_not_matter(model):
+    for name, outline in SHAPES.items():
+        q = wraps_of(outline, 1.5, 0.0, starts=np.linspace(0, 1, 7, endpoint=False))
+        assert set(model.predict(q)) == {name}
+
+
+def test_probabilities_are_calibrated(model):
+    X, y = synthetic_tentacle(300, 32, laps=(0.9, 3.0), noise=(0.0, 0.03), seed=12,
+                              return_X_y=True)  # fmt: skip
+    p = model.predict_proba(X)
+    np.testing.assert_allclose(p.sum(axis=1), 1.0)
+    right = model.classes_[p.argmax(axis=1)] == y
+    # confidence tracks accuracy: mean top probability within 0.1 of the hit rate,
+    # and the confident answers are right more often than the unsure ones
+    assert abs(p.max(axis=1).mean() - right.mean()) < 0.1
+    sure = p.max(axis=1) > np.median(p.max(axis=1))
+    assert right[sure].mean() >= right[~sure].mean()
+
+
+def test_partial_wraps_are_reported_as_partial(model):
+    X, y = synthetic_tentacle(80, 32, laps=(0.5, 0.8), offset_links=(0, 2), noise=0.0,
+                              seed=13, return_X_y=True)  # fmt: skip
+    g = model.grasp(X)
+    assert np.mean(g["state"] == "partial") > 0.85
+    assert np.median(g["laps"][g["state"] == "partial"]) < 0.9
+    p = model.predict_proba(X)
+    top2 = np.argsort(p, axis=1)[:, -2:]
+    assert np.mean([c in model.classes_[t] for c, t in zip(y, top2, strict=True)]) > 0.8
+    # an honest confidence: lower than on full wraps
+    Xf, _ = synthetic_tentacle(80, 32, laps=(1.2, 2.0), noise=0.0, seed=13, return_X_y=True)
+    assert p.max(axis=1).mean() < model.predict_proba(Xf).max(axis=1).mean()
+
+
+def test_unknown_class_is_rejected():
+    d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.0, seed=14)
+    t = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, seed=15)
+    # only wraps the generator made as asked (a few chains coil up past their laps)
+    d_ok, t_ok = d.laps < 2.4, t.laps < 2.4
+    known = d_ok & (d.target != "triangle")
+    clf = TentacleClassifier(reject=True).fit(d.data[known], d.target[known])
+    assert clf.reject_distance_ < np.inf
+    pred = clf.predict(t.data[t_ok])
+    tri = t.target[t_ok] == "triangle"
+    assert np.mean(pred[tri] == "unknown") > 0.75
+    assert np.mean(pred[~tri] == "unknown") < 0.12
+    assert TentacleClassifier().fit(d.data[known], d.target[known]).reject_distance_ == np.inf
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [({"n_points": 4}, "n_points"), ({"reject": 1.5}, "reject"), ({"reject": "x"}, "reject")],
+)
+def test_bad_parameters(kwargs, match):
+    X, y = synthetic_tentacle(20, 16, seed=0, return_X_y=True)
+    with pytest.raises(ValueError, match=match):
+        TentacleClassifier(**kwargs).fit(X, y)
