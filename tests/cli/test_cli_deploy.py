@@ -102,9 +102,9 @@ def test_bundled_model_over_the_documented_range(n_links):
                         X.append(w.angles)
                         y.append(shape)
     accuracy = np.mean(model.predict(np.array(X)) == np.array(y))
-    # measured: 92 of 106 at 16 links (a chain of 16 links sees 4-6 links per lap
-    # at 2.5-3 laps), 114 of 120 at 40 links; the documented examples all hold
-    assert len(y) >= 100 and accuracy >= {16: 0.85, 40: 0.93}[n_links]
+    # measured: 96 of 104 at 16 links (a chain of 16 links sees 4-6 links per lap
+    # at 2.5-3 laps), 118 of 118 at 40 links; the documented examples all hold
+    assert len(y) >= 100 and accuracy >= {16: 0.9, 40: 0.99}[n_links]
 
 
 @pytest.mark.parametrize("n_links", [16, 40])
