@@ -71,7 +71,7 @@ def test_classify_csv_and_npy_files(tmp_path):
         "# header comment\n" + "\n".join(",".join(repr(float(v)) for v in row) for row in rolled)
     )
     for path in (npy, csv):
-        rows = json.loads(run("classify", "--json", "--file", str(path)).output)
+        rows = json.loads(run("classify", "--json", "--file", str(path)).stdout)
         assert [r["label"] for r in rows] == y.tolist()
 
 

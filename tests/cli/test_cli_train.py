@@ -113,7 +113,7 @@ def test_chain_length_mismatch_is_one_line_error(tmp_path, npz):
     out = tmp_path / "m.tcm"
     run("train", "--data", npz, "--out", out)
     r = run("classify", "--model", out, " ".join(["pi/8"] * 16))
-    one_line_error(r, "expects arrays of 24 joint angles, got 16")
+    one_line_error(r, "m.tcm was trained for a chain of 24 links; these arrays have 16 joint")
     assert r.exit_code == 1
 
 
@@ -162,6 +162,7 @@ def test_truncated_model_file(tmp_path, npz):
         ("0,0,pi,a\n0,x,pi,b\n", "bad.csv", "line 2"),
         ("# only comments\n", "empty.csv", "no labelled angle arrays"),
         ("0,0,pi,\n0,0,pi,b\n", "nolabel.csv", "empty label"),
+        ("0,0,pi,pi/2\n0,0,pi,0.5\n", "nolabels.csv", "the last column holds angles"),
         (b"\xff\xfe\x00bin", "bin.csv", "not a text file"),
     ],
 )
@@ -214,7 +215,7 @@ def test_too_many_coefficients_is_one_line_error(tmp_path, npz):
 
 def test_train_requires_data_and_out(tmp_path):
     r = run("train", "--out", tmp_path / "m.tcm")
-    assert r.exit_code == 2 and "--data" in r.output
+    one_line_error(r, "give either --data or --outlines")
 
 
 @pytest.mark.parametrize("classifier", ["pnn", "rbf"])

@@ -94,7 +94,7 @@ def test_usage_errors():
 
 def test_simulate_annotate_and_model(tmp_path):
     d = thesis_scanner()
-    model_path = tmp_path / "model.npz"
+    model_path = tmp_path / "model.tcm"
     ScannerModel().fit(d.grids, d.target).save(model_path)
     png, pbm = tmp_path / "belt.png", tmp_path / "belt.pbm"
     result = CliRunner().invoke(
@@ -120,11 +120,12 @@ def test_simulate_annotate_and_model(tmp_path):
 
 
 def test_damaged_model_file(tmp_path):
-    bad = tmp_path / "model.npz"
+    bad = tmp_path / "model.tcm"
     bad.write_bytes(b"PK\x03\x04 not really")
     result = CliRunner().invoke(scan, ["-", "--model", str(bad)], input=TEXT)
     assert result.exit_code == 1
-    assert "not a readable model file" in result.stderr
+    assert "not a tentaclass model file" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
 
 
 def test_progress_bar_when_stderr_is_a_terminal(tmp_path, monkeypatch):

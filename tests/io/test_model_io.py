@@ -7,11 +7,16 @@ import numpy as np
 import pytest
 from sklearn.pipeline import make_pipeline
 
-from tentaclass.classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
+from tentaclass.classifiers import (
+    FourierClassifier,
+    PNNClassifier,
+    RBFNetworkClassifier,
+    TentacleClassifier,
+)
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
 from tentaclass.errors import ModelFileError
 from tentaclass.features import FourierFeatures
-from tentaclass.io import load_model, save_model
+from tentaclass.io import load_model, model_info, save_model
 from tentaclass.io._model_file import FORMAT_NAME, FORMAT_VERSION
 
 
@@ -23,16 +28,23 @@ def data():
     return X, y, T
 
 
+def fourier_pnn(**features):
+    return make_pipeline(FourierFeatures(**features), PNNClassifier(spread=0.5))
+
+
 def fitted_models(X, y):
     return {
-        "tentacle-pnn": FourierClassifier(spread=0.5, detrend=True).fit(X, y),
-        "tentacle-pnn-auto-f32": FourierClassifier(
-            classifier=PNNClassifier(spread="auto", dtype="float32", reject_below=1e-6)
+        "tentacle-pnn": fourier_pnn(detrend=True).fit(X, y),
+        "tentacle-pnn-auto-f32": make_pipeline(
+            FourierFeatures(),
+            PNNClassifier(spread="auto", dtype="float32", reject_below=1e-6),
         ).fit(X, y),
-        "tentacle-rbf": FourierClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
-        "tentacle-rbf-forward": FourierClassifier(
-            normalize=True, classifier=RBFNetworkClassifier(centers="forward", n_centers=5)
+        "tentacle-rbf": make_pipeline(FourierFeatures(8), RBFNetworkClassifier()).fit(X, y),
+        "tentacle-rbf-forward": make_pipeline(
+            FourierFeatures(normalize=True), RBFNetworkClassifier(centers="forward", n_centers=5)
         ).fit(X, y),
+        "fourier-pnn": FourierClassifier(spread=0.5, detrend=True).fit(X, y),
+        "fourier-rbf": FourierClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
         "pipeline": make_pipeline(FourierFeatures(6), PNNClassifier(spread=0.3)).fit(X, y),
         "pnn": PNNClassifier(spread=0.3).fit(X, y),
         "rbf": RBFNetworkClassifier(centers="kmeans", n_centers=6, random_state=0).fit(X, y),
@@ -46,6 +58,8 @@ def fitted_models(X, y):
         "tentacle-pnn-auto-f32",
         "tentacle-rbf",
         "tentacle-rbf-forward",
+        "fourier-pnn",
+        "fourier-rbf",
         "pipeline",
         "pnn",
         "rbf",
@@ -61,6 +75,25 @@ def test_round_trip_predicts_exactly_alike(tmp_path, data, name):
     np.testing.assert_array_equal(loaded.classes_, model.classes_)
     assert loaded.classes_.dtype == model.classes_.dtype
     assert loaded.get_params(deep=False).keys() == model.get_params(deep=False).keys()
+
+
+def test_default_recogniser_round_trips(tmp_path):
+    """The default TentacleClassifier, saved without knowing its internals."""
+    from tentaclass.datasets import synthetic_tentacle
+
+    d = synthetic_tentacle(160, 16, noise=(0.0, 0.02), seed=0)
+    ok = np.isfinite(d.data).all(axis=1)  # failed wraps come back as NaN rows
+    X, y = d.data[ok], d.target[ok]
+    model = TentacleClassifier().fit(X, y)
+    t = synthetic_tentacle(40, 16, laps=(0.5, 2.5), noise=(0.0, 0.02), seed=1)
+    T = t.data[np.isfinite(t.data).all(axis=1)]
+    loaded = load_model(save_model(model, tmp_path / "default.tcm"))
+    assert type(loaded) is TentacleClassifier
+    np.testing.assert_array_equal(loaded.predict_proba(T), model.predict_proba(T))
+    np.testing.assert_array_equal(loaded.predict(T), model.predict(T))
+    rejecting = TentacleClassifier(reject=0.05).fit(X, y)
+    again = load_model(save_model(rejecting, tmp_path / "reject.tcm"))
+    np.testing.assert_array_equal(again.predict(T), rejecting.predict(T))
 
 
 @pytest.mark.parametrize(
@@ -84,24 +117,32 @@ def test_labels_of_any_type(tmp_path, labels):
 
 def test_metadata_contents(tmp_path, data):
     X, y, _ = data
-    path = save_model(FourierClassifier(spread=0.5).fit(X, y), tmp_path / "m.tcm")
+    model = fourier_pnn().fit(X, y)
+    path = save_model(model, tmp_path / "m.tcm", info={"chain": {"n_links": 32}})
     with zipfile.ZipFile(path) as zf:
         meta = json.loads(zf.read("metadata.json"))
-        assert sorted(zf.namelist()) == ["class_count.npy", "metadata.json", "patterns.npy"]
-        blob = zf.read("patterns.npy")
+        names = sorted(zf.namelist())
+        blobs = {n: zf.read(n) for n in names}
     assert meta["format"] == FORMAT_NAME == "tentaclass-model"
-    assert meta["format_version"] == FORMAT_VERSION == 1
-    assert meta["estimator"] == "FourierClassifier"
-    assert meta["classes"] == {
-        "dtype": "<U9",
-        "values": ["circle", "rectangle", "square", "triangle"],
-    }
-    assert meta["features"]["n_features_in"] == 32 and meta["features"]["n_coeffs_"] == 16
-    assert meta["classifier"]["kind"] == "pnn"
-    assert meta["classifier"]["params"]["spread"] == 0.5
-    assert meta["arrays"]["patterns"]["shape"] == [16, 16]
-    assert meta["arrays"]["patterns"]["sha256"] == hashlib.sha256(blob).hexdigest()
+    assert meta["format_version"] == FORMAT_VERSION == 2
     assert isinstance(meta["library_version"], str)
+    assert meta["info"] == {"chain": {"n_links": 32}}
+    pipe = meta["estimator"]
+    assert pipe["__estimator__"] == "Pipeline"
+    steps = pipe["params"]["steps"]
+    assert [s["__tuple__"][1]["__estimator__"] for s in steps] == [
+        "FourierFeatures",
+        "PNNClassifier",
+    ]
+    pnn = steps[1]["__tuple__"][1]["state"]
+    assert pnn["spread_"] == 0.5 and "_pt" not in pnn  # caches are rebuilt, not stored
+    patterns = meta["arrays"][pnn["patterns_"]["__array__"]]
+    assert patterns["shape"] == [16, 16] and patterns["dtype"] == "<f8"
+    member = pnn["patterns_"]["__array__"] + ".npy"
+    assert patterns["sha256"] == hashlib.sha256(blobs[member]).hexdigest()
+    assert names == sorted(["metadata.json", *(f"{n}.npy" for n in meta["arrays"])])
+    info = model_info(path)
+    assert info["chain"] == {"n_links": 32} and info["estimator"] == "Pipeline"
 
 
 def test_never_pickles(tmp_path, data):
@@ -119,7 +160,7 @@ def test_never_pickles(tmp_path, data):
 @pytest.fixture
 def good(tmp_path, data):
     X, y, _ = data
-    return save_model(FourierClassifier(spread=0.5).fit(X, y), tmp_path / "good.tcm")
+    return save_model(fourier_pnn().fit(X, y), tmp_path / "good.tcm")
 
 
 def rewrite(src, dst, meta_fn=None, members_fn=None):
@@ -198,60 +239,129 @@ def test_flipped_bytes_anywhere_are_caught(tmp_path, good):
         np.testing.assert_array_equal(model.predict_proba(X), load_model(good).predict_proba(X))
 
 
+def _pnn_node(meta):
+    """The PNN's record inside a saved pipeline's tree."""
+    return meta["estimator"]["params"]["steps"][1]["__tuple__"][1]
+
+
+def _features_node(meta):
+    return meta["estimator"]["params"]["steps"][0]["__tuple__"][1]
+
+
+def _array_name(meta, attribute):
+    return _pnn_node(meta)["state"][attribute]["__array__"]
+
+
+def _replace_array(members, name, arr):
+    buf = io.BytesIO()
+    np.lib.format.write_array(buf, arr, allow_pickle=arr.dtype.kind == "O")
+    members[f"{name}.npy"] = buf.getvalue()
+    m = json.loads(members["metadata.json"])
+    m["arrays"][name].update(sha256=hashlib.sha256(buf.getvalue()).hexdigest(), dtype=arr.dtype.str)
+    members["metadata.json"] = json.dumps(m).encode()
+
+
 def test_checksum_mismatch(tmp_path, good):
     def tamper(members):
-        arr = np.lib.format.read_array(io.BytesIO(members["patterns.npy"]))
+        name = _array_name(json.loads(members["metadata.json"]), "patterns_")
+        arr = np.lib.format.read_array(io.BytesIO(members[f"{name}.npy"]))
         arr[0, 0] += 1.0
         buf = io.BytesIO()
         np.lib.format.write_array(buf, arr)
-        members["patterns.npy"] = buf.getvalue()
+        members[f"{name}.npy"] = buf.getvalue()
 
-    with pytest.raises(ModelFileError, match="checksum mismatch for array 'patterns'"):
+    with pytest.raises(ModelFileError, match="checksum mismatch for array 'a"):
         load_model(rewrite(good, tmp_path / "x.tcm", members_fn=tamper))
+
+
+def _set_class(meta, name):
+    meta["estimator"]["__estimator__"] = name
+
+
+def _array_spec(meta, attribute):
+    return meta["arrays"][_array_name(meta, attribute)]
 
 
 @pytest.mark.parametrize(
     "edit, match",
     [
-        (lambda m: m.update(format_version=2), "newer than this tentaclass reads"),
+        (lambda m: m.update(format_version=3), "newer than this tentaclass reads"),
         (lambda m: m.update(format_version=0), "unknown format version 0"),
-        (lambda m: m.update(format_version="1"), "unknown format version"),
+        (lambda m: m.update(format_version="2"), "unknown format version"),
         (lambda m: m.pop("format_version"), "unknown format version None"),
         (lambda m: m.update(format="something-else"), "not a tentaclass model file"),
-        (lambda m: m.update(estimator="SVC"), "unknown estimator kind 'SVC'"),
-        (lambda m: m["classifier"].update(kind="svm"), "unknown classifier kind"),
-        (lambda m: m["classes"].update(values=["a", "a", "b", "c"]), "repeat"),
-        (lambda m: m["classes"].update(dtype="<M8[s]"), "classes dtype"),
-        (lambda m: m["classes"].update(values=["a"]), "at least 2"),
-        (lambda m: m["classifier"]["fitted"].update(spread_=-1.0), "spread_"),
-        (lambda m: m["classifier"]["params"].update(spread=-1.0), "bad pnn parameters"),
-        (lambda m: m["classifier"]["params"].update(bogus=1), "bad pnn parameters"),
-        (lambda m: m["features"].update(n_coeffs_=99), "do not fit"),
-        (lambda m: m["features"].pop("detrend"), "missing field features.'detrend'"),
-        (lambda m: m["arrays"]["patterns"].update(shape=[3, 3]), "metadata says"),
-        (lambda m: m["arrays"].pop("class_count"), "do not match the metadata"),
-        (lambda m: m["tentacle_params"].update(detrend="yes"), "wrong type"),
+        (lambda m: _set_class(m, "SVC"), "'SVC', which is not an estimator"),
+        (lambda m: _set_class(m, "os.system"), "not an estimator model files may hold"),
+        (lambda m: _set_class(m, "BaseEstimator"), "not an estimator model files may hold"),
+        (lambda m: _pnn_node(m).update(__estimator__="subprocess.Popen"), "not an estimator"),
+        (lambda m: _pnn_node(m)["state"].update(spread_=-1.0), "spread_"),
+        (lambda m: _pnn_node(m)["params"].update(spread=-1.0), "spread"),
+        (lambda m: _pnn_node(m)["params"].update(bogus=1), "bad PNNClassifier parameters"),
+        (lambda m: _pnn_node(m)["params"].pop("spread"), "parameters"),
+        (lambda m: _pnn_node(m)["params"].update(dtype={"names": ["a"]}), "one known tag"),
+        (
+            lambda m: _pnn_node(m)["params"].update(dtype={"__dtype__": {"names": ["a"]}}),
+            "must be a dtype string, got dict",
+        ),
+        (lambda m: _pnn_node(m)["params"].update(dtype={"__dtype__": "O"}), "not allowed"),
+        (lambda m: _pnn_node(m)["params"].update(dtype="complex64"), "dtype"),
+        (lambda m: _pnn_node(m)["state"].update(__class__=1), "cannot have the attribute"),
+        (lambda m: _pnn_node(m)["state"].update(predict=1), "cannot have the attribute"),
+        (lambda m: _pnn_node(m)["state"].update(_pt=1), "cannot have the attribute"),
+        (lambda m: _pnn_node(m)["state"].pop("patterns_"), "patterns_"),
+        (lambda m: _features_node(m)["state"].update(n_coeffs_=99), None),
+        (
+            lambda m: _array_spec(m, "patterns_").update(dtype={"descr": "<f8"}),
+            "must be a dtype string, got dict",
+        ),
+        (lambda m: _array_spec(m, "patterns_").update(dtype=["<f8"]), "dtype string, got list"),
+        (lambda m: _array_spec(m, "patterns_").update(dtype="|O"), "not allowed"),
+        (lambda m: _array_spec(m, "patterns_").update(dtype="<M8[s]"), "not allowed"),
+        (lambda m: _array_spec(m, "patterns_").update(dtype="pickle"), "not a dtype"),
+        (lambda m: _array_spec(m, "patterns_").update(shape=[3, 3]), "metadata says"),
+        (lambda m: m["arrays"].pop(_array_name(m, "class_count_")), "do not match the metadata"),
+        (
+            lambda m: _pnn_node(m)["state"].update(class_count_=_pnn_node(m)["state"]["patterns_"]),
+            "used twice",
+        ),
+        (lambda m: _pnn_node(m)["state"].update(spread_={"__float__": "1e9"}), "nan, inf"),
+        (lambda m: _pnn_node(m)["state"].update(spread_={"__tuple__": [], "x": 1}), "unknown"),
+        (
+            lambda m: _pnn_node(m)["state"].update(spread_={"__scalar__": [1], "dtype": "<f8"}),
+            "scalar",
+        ),
+        (lambda m: _features_node(m)["params"].update(detrend={"__dict__": 5}), "wrong type"),
+        (lambda m: m.update(info=[1]), "info must be an object"),
     ],
 )
 def test_bad_metadata(tmp_path, good, edit, match):
+    bad = rewrite(good, tmp_path / "x.tcm", meta_fn=edit)
+    if match is None:  # a change that predicts wrongly must at least fail cleanly or agree
+        try:
+            model = load_model(bad)
+        except ModelFileError:
+            return
+        X, _ = reference_tentacle(32, n_starts=4, return_X_y=True)
+        with pytest.raises(ValueError):
+            model.predict_proba(X)
+        return
     with pytest.raises(ModelFileError, match=match):
-        load_model(rewrite(good, tmp_path / "x.tcm", meta_fn=edit))
+        load_model(bad)
+
+
+def test_deeply_nested_metadata_is_refused(tmp_path, good):
+    deep = None
+    for _ in range(200):
+        deep = [deep]
+    bad = rewrite(good, tmp_path / "x.tcm", meta_fn=lambda m: _pnn_node(m)["state"].update(x_=deep))
+    with pytest.raises(ModelFileError, match="nested too deeply"):
+        load_model(bad)
 
 
 def test_inconsistent_arrays(tmp_path, good):
     def tamper(members):
-        counts = np.array([4, 4, 4, 5])
-        buf = io.BytesIO()
-        np.lib.format.write_array(buf, counts)
-        members["class_count.npy"] = buf.getvalue()
-
-        def meta(m):
-            m["arrays"]["class_count"]["sha256"] = hashlib.sha256(buf.getvalue()).hexdigest()
-            m["arrays"]["class_count"]["dtype"] = counts.dtype.str
-
-        m = json.loads(members["metadata.json"])
-        meta(m)
-        members["metadata.json"] = json.dumps(m).encode()
+        name = _array_name(json.loads(members["metadata.json"]), "class_count_")
+        _replace_array(members, name, np.array([4, 4, 4, 5]))
 
     with pytest.raises(ModelFileError, match="inconsistent"):
         load_model(rewrite(good, tmp_path / "x.tcm", members_fn=tamper))
@@ -259,36 +369,168 @@ def test_inconsistent_arrays(tmp_path, good):
 
 def test_pickled_array_is_refused(tmp_path, good):
     def tamper(members):
-        buf = io.BytesIO()
-        np.lib.format.write_array(buf, np.array([{"a": 1}], dtype=object), allow_pickle=True)
-        members["class_count.npy"] = buf.getvalue()
-        m = json.loads(members["metadata.json"])
-        m["arrays"]["class_count"]["sha256"] = hashlib.sha256(buf.getvalue()).hexdigest()
-        members["metadata.json"] = json.dumps(m).encode()
+        name = _array_name(json.loads(members["metadata.json"]), "class_count_")
+        _replace_array(members, name, np.array([{"a": 1}], dtype=object))
 
-    with pytest.raises(ModelFileError, match=r"not a valid \.npy"):
+    with pytest.raises(ModelFileError, match="not allowed"):
         load_model(rewrite(good, tmp_path / "x.tcm", members_fn=tamper))
 
 
 def test_unsupported_estimators_are_refused(tmp_path, data):
-    from sklearn.neighbors import KNeighborsClassifier
+    from sklearn.exceptions import NotFittedError
+    from sklearn.svm import SVC
 
     X, y, _ = data
-    knn = FourierClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
-    with pytest.raises(ValueError, match="KNeighborsClassifier"):
-        save_model(knn, tmp_path / "k.tcm")
-    with pytest.raises(ValueError, match="FourierClassifier"):
+    svc = make_pipeline(FourierFeatures(), SVC()).fit(X, y)
+    with pytest.raises(ValueError, match="cannot save a SVC"):
+        save_model(svc, tmp_path / "k.tcm")
+    with pytest.raises(ValueError, match="cannot save a object"):
         save_model(object(), tmp_path / "k.tcm")
     with pytest.raises(ValueError, match="unknown_label"):
         save_model(PNNClassifier(unknown_label=object()).fit(X, y), tmp_path / "k.tcm")
-    from sklearn.exceptions import NotFittedError
-
     with pytest.raises(NotFittedError):
-        save_model(FourierClassifier(), tmp_path / "k.tcm")
+        save_model(TentacleClassifier(), tmp_path / "k.tcm")
+    with pytest.raises(ValueError, match="info"):
+        save_model(PNNClassifier().fit(X, y), tmp_path / "k.tcm", info={"x": float("nan")})
+
+
+class _Subclass(PNNClassifier):
+    pass
+
+
+def test_subclasses_of_allowed_estimators_are_refused(tmp_path, data):
+    X, y, _ = data
+    with pytest.raises(ValueError, match="cannot save a _Subclass"):
+        save_model(_Subclass().fit(X, y), tmp_path / "k.tcm")
+
+
+def test_any_estimator_tree_round_trips(tmp_path, data):
+    import warnings
+
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.neighbors import KNeighborsClassifier
+    from sklearn.pipeline import make_union
+    from sklearn.preprocessing import StandardScaler
+
+    from tentaclass.classifiers import ShiftNNClassifier, modern_mlp, thesis_mlp
+    from tentaclass.features import AngleSpectrum, LastLap
+
+    X, y, T = data
+    models = [
+        ShiftNNClassifier(),
+        make_pipeline(LastLap(), ShiftNNClassifier(signal="shape")),
+        make_pipeline(
+            make_union(AngleSpectrum(), make_pipeline(LastLap(16), FourierFeatures())),
+            StandardScaler(),
+            PNNClassifier(spread="auto"),
+        ),
+        make_pipeline(FourierFeatures(), modern_mlp(random_state=0, early_stopping=False)),
+        make_pipeline(FourierFeatures(), thesis_mlp(random_state=0)),
+        make_pipeline(FourierFeatures(), LogisticRegression()),
+        make_pipeline(FourierFeatures(), KNeighborsClassifier(1)),
+    ]
+    for model in models:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # MLPs stopped after a few epochs
+            model.fit(X, y)
+        loaded = load_model(save_model(model, tmp_path / "m.tcm"))
+        np.testing.assert_array_equal(loaded.predict(T), model.predict(T))
+        if hasattr(model, "predict_proba"):
+            np.testing.assert_array_equal(loaded.predict_proba(T), model.predict_proba(T))
+
+
+def test_numpy_values_keep_their_types(tmp_path, data):
+    X, y, _ = data
+    model = PNNClassifier(dtype=np.float32, unknown_label=np.int16(-1)).fit(X, y)
+    model.extra_ = {"a": (np.float32(0.5), float("inf")), "b": [np.arange(3), "x"]}
+    loaded = load_model(save_model(model, tmp_path / "m.tcm"))
+    assert loaded.dtype == np.float32 and type(loaded.unknown_label) is np.int16
+    a, b = loaded.extra_["a"], loaded.extra_["b"]
+    assert type(a) is tuple and type(a[0]) is np.float32 and a[1] == float("inf")
+    np.testing.assert_array_equal(b[0], np.arange(3))
+
+
+@pytest.mark.parametrize("kind", ["pnn", "rbf"])
+def test_version_1_files_are_still_read(kind):
+    from pathlib import Path
+
+    here = Path(__file__).parent / "data"
+    model = load_model(here / f"v1-tentacle-{kind}.tcm")
+    X, _ = reference_tentacle(16, n_starts=2, return_X_y=True)
+    np.testing.assert_array_equal(
+        model.predict_proba(X), np.load(here / f"v1-tentacle-{kind}-proba.npy")
+    )
+    assert model_info(here / f"v1-tentacle-{kind}.tcm")["format_version"] == 1
+
+
+@pytest.mark.parametrize(
+    "edit, match",
+    [
+        (lambda m: m.update(estimator="SVC"), "unknown estimator kind 'SVC'"),
+        (lambda m: m["classifier"].update(kind="svm"), "unknown classifier kind"),
+        (lambda m: m["classes"].update(values=["a", "a", "b", "c"]), "repeat"),
+        (lambda m: m["classes"].update(dtype="<M8[s]"), "classes dtype"),
+        (lambda m: m["classes"].update(dtype={"a": 1}), "wrong type"),
+        (lambda m: m["classes"].update(values=["a"]), "at least 2"),
+        (lambda m: m["classifier"]["fitted"].update(spread_=-1.0), "spread_"),
+        (lambda m: m["classifier"]["params"].update(spread=-1.0), "bad pnn parameters"),
+        (lambda m: m["classifier"]["params"].update(bogus=1), "bad pnn parameters"),
+        (lambda m: m["classifier"]["params"].update(dtype={"a": 1}), "bad pnn parameters"),
+        (
+            lambda m: m["classifier"]["params"].update(dtype={"names": ["a"], "formats": ["f8"]}),
+            "bad pnn parameters",
+        ),
+        (lambda m: m["features"].update(n_coeffs_=99), "do not fit"),
+        (lambda m: m["features"].pop("detrend"), "missing field features.'detrend'"),
+        (lambda m: m["arrays"]["patterns"].update(shape=[3, 3]), "metadata says"),
+        (lambda m: m["arrays"]["patterns"].update(dtype={"a": 1}), "dtype string, got dict"),
+        (lambda m: m["arrays"].pop("class_count"), "do not match the metadata"),
+        (lambda m: m["tentacle_params"].update(detrend="yes"), "wrong type"),
+    ],
+)
+def test_bad_version_1_metadata(tmp_path, edit, match):
+    from pathlib import Path
+
+    good = Path(__file__).parent / "data" / "v1-tentacle-pnn.tcm"
+    with pytest.raises(ModelFileError, match=match):
+        load_model(rewrite(good, tmp_path / "x.tcm", meta_fn=edit))
 
 
 def test_thesis_model_round_trip_across_start_points(tmp_path):
     X, y = thesis_tentacle(64, return_X_y=True)
-    loaded = load_model(save_model(FourierClassifier().fit(X, y), tmp_path / "t.tcm"))
+    loaded = load_model(save_model(fourier_pnn().fit(X, y), tmp_path / "t.tcm"))
     for k in range(0, 64, 7):
         assert loaded.predict(np.roll(X, k, axis=1)).tolist() == y.tolist()
+
+
+def test_bundled_models_and_their_errors():
+    from tentaclass.errors import InputError
+    from tentaclass.io import bundled_links, bundled_model
+
+    links = bundled_links()
+    assert {16, 40} <= set(links)
+    with pytest.raises(InputError, match=r"no bundled model for a chain of 17 links: .*16"):
+        bundled_model(17)
+    model, info = bundled_model(16)
+    assert info["chain"]["n_links"] == 16 == model.n_features_in_
+    assert model_info(files_of("default-16.tcm"))["format_version"] == FORMAT_VERSION
+
+
+def files_of(name):
+    from importlib.resources import files
+
+    return files("tentaclass.data") / name
+
+
+def test_best_class_score_needs_class_scores(data):
+    from sklearn.linear_model import LogisticRegression
+
+    from tentaclass.errors import InputError
+    from tentaclass.io import best_class_score
+
+    X, y, T = data
+    pnn = fourier_pnn().fit(X, y)
+    scores = best_class_score(pnn, T)
+    np.testing.assert_allclose(scores, pnn[-1].class_scores(pnn[0].transform(T)).max(axis=1))
+    with pytest.raises(InputError, match="LogisticRegression"):
+        best_class_score(make_pipeline(FourierFeatures(), LogisticRegression()).fit(X, y), T)

@@ -5,11 +5,13 @@ import numpy as np
 import pytest
 from sklearn.base import clone
 from sklearn.linear_model import LogisticRegression
+from sklearn.naive_bayes import GaussianNB
 from sklearn.neighbors import KNeighborsClassifier
 
 from tentaclass.classifiers import PNNClassifier
 from tentaclass.datasets import thesis_scanner
 from tentaclass.errors import InputError, ModelFileError
+from tentaclass.io import load_model, model_info, save_model
 from tentaclass.scanner import ScannerModel, default_model, inspect
 from tentaclass.scanner.model import FORMAT_VERSION
 from tentaclass.scanner.simulate import draw_shape
@@ -68,31 +70,77 @@ def test_default_model_is_shared_and_trained():
     assert default_model().features_.shape[0] == 16 + 400
 
 
-@pytest.mark.parametrize("clf", [None, KNeighborsClassifier(1), PNNClassifier(spread=0.3)])
+@pytest.mark.parametrize(
+    "clf", [None, KNeighborsClassifier(1), PNNClassifier(spread=0.3), LogisticRegression()]
+)
 def test_save_load_roundtrip(tmp_path, clf):
-    model = ScannerModel(clf).fit(THESIS.grids, THESIS.target)
-    path = tmp_path / "m.npz"
+    model = ScannerModel(clf).fit(list(THESIS.grids) * 2, list(THESIS.target) * 2)
+    path = tmp_path / "m.tcm"
     model.save(path)
     loaded = ScannerModel.load(path)
     np.testing.assert_array_equal(loaded.features_, model.features_)
-    np.testing.assert_allclose(
+    np.testing.assert_array_equal(
         loaded.predict_proba(THESIS.test_grids), model.predict_proba(THESIS.test_grids)
     )
     assert loaded.get_params()["n_coeffs"] == model.n_coeffs
-    with np.load(path, allow_pickle=False) as npz:  # a plain npz, no pickle inside
-        meta = json.loads(str(npz["metadata"]))
-    assert meta["version"] == FORMAT_VERSION and meta["classes"] == model.classes_.tolist()
+    assert loaded.nominal_sizes() == model.nominal_sizes()
+    assert type(load_model(path)) is ScannerModel  # the one model-file format
+    assert model_info(path)["estimator"] == "ScannerModel"
 
 
-def test_save_refuses_classifiers_it_cannot_rebuild(tmp_path):
-    model = ScannerModel(LogisticRegression()).fit(list(THESIS.grids) * 2, list(THESIS.target) * 2)
-    with pytest.raises(InputError, match="cannot save"):
-        model.save(tmp_path / "m.npz")
+def test_save_refuses_classifiers_it_cannot_store(tmp_path):
+    model = ScannerModel(GaussianNB()).fit(THESIS.grids, THESIS.target)
+    with pytest.raises(InputError, match="cannot save a GaussianNB"):
+        model.save(tmp_path / "m.tcm")
+
+
+def test_load_refuses_other_models(tmp_path):
+    from tentaclass.classifiers import TentacleClassifier
+    from tentaclass.datasets import thesis_tentacle
+
+    X, y = thesis_tentacle(16, return_X_y=True)
+    path = save_model(TentacleClassifier().fit(X, y), tmp_path / "t.tcm")
+    with pytest.raises(ModelFileError, match="holds a TentacleClassifier, not a scanner model"):
+        ScannerModel.load(path)
+
+
+def _legacy_save(model, path):
+    """The former .npz format, as earlier releases wrote it."""
+    clf = model.classifier_
+    meta = {
+        "format": "tentaclass-scanner-model",
+        "version": FORMAT_VERSION,
+        "classes": model.classes_.tolist(),
+        "descriptors": list(model.descriptors),
+        "n_points": model.n_points,
+        "n_coeffs": model.n_coeffs,
+        "feature_names": model.feature_names_,
+        "classifier": {"name": type(clf).__name__, "params": clf.get_params(deep=False)},
+    }
+    with open(path, "wb") as fh:
+        np.savez_compressed(
+            fh,
+            features=model.features_,
+            labels=model.labels_.astype(str),
+            sizes=model.sizes_,
+            metadata=np.array(json.dumps(meta)),
+        )
+
+
+def test_former_npz_files_load_with_a_deprecation_warning(tmp_path):
+    model = ScannerModel().fit(THESIS.grids, THESIS.target)
+    path = tmp_path / "old.npz"
+    _legacy_save(model, path)
+    with pytest.warns(DeprecationWarning, match="save the model again"):
+        loaded = ScannerModel.load(path)
+    np.testing.assert_allclose(
+        loaded.predict_proba(THESIS.grids), model.predict_proba(THESIS.grids)
+    )
 
 
 def _saved(tmp_path):
     path = tmp_path / "m.npz"
-    ScannerModel().fit(THESIS.grids, THESIS.target).save(path)
+    _legacy_save(ScannerModel().fit(THESIS.grids, THESIS.target), path)
     with np.load(path, allow_pickle=False) as npz:
         return path, {k: npz[k] for k in npz.files}
 
@@ -163,11 +211,13 @@ def test_load_refuses_damaged_and_foreign_files(tmp_path):
     path, _ = _saved(tmp_path)
     data = path.read_bytes()
     (tmp_path / "cut.npz").write_bytes(data[: len(data) // 2])
+    ScannerModel().fit(THESIS.grids, THESIS.target).save(tmp_path / "m.tcm")
+    (tmp_path / "cut.tcm").write_bytes((tmp_path / "m.tcm").read_bytes()[:-40])
     (tmp_path / "text.npz").write_text("hello")
     np.save(tmp_path / "array.npy", np.zeros(3))
     with zipfile.ZipFile(tmp_path / "zip.npz", "w") as z:
         z.writestr("readme.txt", "not ours")
-    for name in ["cut.npz", "text.npz", "array.npy", "zip.npz", "missing.npz"]:
+    for name in ["cut.npz", "text.npz", "array.npy", "zip.npz", "missing.npz", "cut.tcm"]:
         with pytest.raises(ModelFileError):
             ScannerModel.load(tmp_path / name)
 
@@ -208,10 +258,11 @@ def test_bad_fit_input():
 
 
 def test_any_flipped_byte_gives_model_file_error_or_the_same_model(tmp_path):
-    path, _ = _saved(tmp_path)
+    path = tmp_path / "m.tcm"
+    ScannerModel().fit(THESIS.grids, THESIS.target).save(path)
     data = path.read_bytes()
     reference = ScannerModel.load(path).predict_proba(THESIS.grids)
-    bad = tmp_path / "bad.npz"
+    bad = tmp_path / "bad.tcm"
     for i in range(0, len(data), 7):
         flipped = bytearray(data)
         flipped[i] ^= 0x5A

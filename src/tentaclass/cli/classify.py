@@ -2,37 +2,88 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
-from sklearn.pipeline import Pipeline
 
-from .._validation import as_angle_array
-from ..classifiers import FourierClassifier
-from ..datasets import reference_tentacle
-from ..io import load_model
-from ..report import classification_table, table_to_json
-from .options import AngleList, dask_client, files_options, read_angle_file, scheduler_option
+from .options import (
+    AngleList,
+    dask_client,
+    files_options,
+    parse_angle_rows,
+    read_angle_file,
+    scheduler_option,
+)
+
+#: Arrays that turn less than this many laps in total do not wrap anything.
+MIN_LAPS = 0.05
 
 
-def default_model(n_links: int) -> FourierClassifier:
-    """The built-in model: the four thesis classes at ``n_links`` links."""
+def default_model(n_links: int) -> Any:
+    """The one-lap reference model: the four thesis classes at ``n_links`` links."""
+    from ..classifiers import FourierClassifier
+    from ..datasets import reference_tentacle
+
     X, y = reference_tentacle(n_links, return_X_y=True)
     return FourierClassifier(detrend=True, spread=0.5).fit(X, y)
 
 
-def model_from_file(path: Path) -> tuple[FourierClassifier | Pipeline, int]:
-    """A model of joint angles from a ``.tcm`` file, and its chain length."""
+def model_from_file(path: Path) -> tuple[Any, dict]:
+    """A model of joint angles from a ``.tcm`` file, and its info."""
+    from sklearn.pipeline import Pipeline
+
+    from ..classifiers import FourierClassifier, TentacleClassifier
+    from ..io import load_model, model_info
+
     model = load_model(path)
-    if isinstance(model, FourierClassifier):
-        return model, model.n_features_in_
-    if isinstance(model, Pipeline):
-        return model, model.steps[0][1].n_features_in_
-    raise ValueError(
-        f"{path}: holds a bare {type(model).__name__} of feature vectors; classify needs "
-        "a model of joint angles (from 'tentaclass train' or a FourierClassifier)"
+    if not isinstance(model, TentacleClassifier | FourierClassifier | Pipeline):
+        raise ValueError(
+            f"{path}: holds a bare {type(model).__name__} of feature vectors; classify needs "
+            "a model of joint angles (from 'tentaclass train', a TentacleClassifier or a "
+            "FourierClassifier)"
+        )
+    return model, model_info(path)
+
+
+def _read_stdin() -> np.ndarray:
+    stream = sys.stdin
+    if stream is None or stream.isatty():
+        raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
+    lines = stream.read().splitlines()
+    if not any(line.split("#", 1)[0].strip() for line in lines):
+        raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
+    return parse_angle_rows(lines, "standard input")
+
+
+def _check_wraps(X: np.ndarray) -> None:
+    """Refuse arrays of a chain that turns around nothing (e.g. all zeros)."""
+    from ..wrapping import grasp_state
+
+    laps = np.atleast_1d(grasp_state(X).laps)
+    flat = np.flatnonzero(laps < MIN_LAPS)
+    if flat.size:
+        i = int(flat[0])
+        raise ValueError(
+            f"angle array {i} turns {float(np.abs(X[i].sum())):.3g} rad in total: not a chain "
+            f"wrapped around an object (a wrap turns about 2*pi per lap)"
+        )
+
+
+def _bundled_or_reference(n_links: int) -> tuple[Any, dict]:
+    from ..io import bundled_links, bundled_model
+
+    if n_links in bundled_links():
+        return bundled_model(n_links)
+    links = ", ".join(map(str, bundled_links()))
+    click.echo(
+        f"note: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
+        "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
+        err=True,
     )
+    return default_model(n_links), {}
 
 
 @click.command()
@@ -47,52 +98,104 @@ def model_from_file(path: Path) -> tuple[FourierClassifier | Pipeline, int]:
     "--model",
     "model_file",
     type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="Model file (.tcm, from 'tentaclass train') to use instead of the built-in model.",
+    help="Model file (.tcm, from 'tentaclass train') to use instead of the bundled model.",
+)
+@click.option(
+    "--reject",
+    is_flag=True,
+    help="Answer 'unknown' for objects unlike every class (the model's own threshold).",
+)
+@click.option(
+    "--reject-below",
+    type=click.FloatRange(min=0, max=1),
+    help="Rejection threshold on the best class score, instead of the model's own.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
 @files_options(".labels.parquet for Parquet, .labels.csv otherwise")
 @scheduler_option
 def classify(
-    angles: np.ndarray | None, file: Path | None, model_file: Path | None, as_json: bool,
-    files: str | None = None, out_dir: Path | None = None, scheduler: str | None = None,
-) -> None:  # fmt: skip
-    """Classify joint-angle arrays: ANGLES such as "0 0 0 pi/2 ..." or --file.
+    angles: np.ndarray | None,
+    file: Path | None,
+    model_file: Path | None,
+    reject: bool,
+    reject_below: float | None,
+    as_json: bool,
+    files: str | None = None,
+    out_dir: Path | None = None,
+    scheduler: str | None = None,
+) -> None:
+    """Classify joint-angle arrays: ANGLES such as "0 0 0 pi/2 ...", --file, or stdin.
 
-    The built-in model knows the thesis's four classes (square, circle,
-    triangle, rectangle) for chains of any length; --model uses a trained one.
+    With neither ANGLES nor --file, reads one array per line from standard
+    input, so `tentaclass wrap ... | tentaclass classify` works. The bundled
+    models know the thesis's four classes (square, circle, triangle,
+    rectangle) for chains of 16, 32, 40 and 64 links; --model uses a trained
+    one.
     """
+    from .._validation import as_angle_array
+    from ..io import best_class_score, check_chain_length
+    from ..report import classification_table, table_to_json
+
     if files is not None or scheduler is not None:
         return _many(files, out_dir, model_file, scheduler, angles is not None or file is not None)
-    if (angles is None) == (file is None):
-        raise click.UsageError("give either ANGLES or --file, not both or neither")
-    X = read_angle_file(file) if file is not None else angles[None, :]
-    X = as_angle_array(X, "angle array", min_joints=3)
-    if model_file is None:
-        model = default_model(X.shape[1])
+    if angles is not None and file is not None:
+        raise click.UsageError("give either ANGLES or --file, not both")
+    if file is not None:
+        X = read_angle_file(file)
+    elif angles is not None:
+        X = angles[None, :]
     else:
-        model, n_joints = model_from_file(model_file)
-        if X.shape[1] != n_joints:
+        X = _read_stdin()
+    X = as_angle_array(X, "angle array", min_joints=3)
+    _check_wraps(X)
+    if model_file is None:
+        model, info = _bundled_or_reference(X.shape[1])
+        name = "the bundled model"
+    else:
+        model, info = model_from_file(model_file)
+        name = f"the model {model_file.name}"
+        n_in = getattr(model, "n_features_in_", None)
+        check_chain_length(X, info, n_in if isinstance(n_in, int) else X.shape[1], name)
+    labels = model.predict(X).astype(object)
+    proba = model.predict_proba(X)
+    own = model.get_params(deep=False).get("reject", None) if hasattr(model, "reject") else None
+    if own is not None and reject_below is None:
+        # a recogniser that rejects by itself answers "unknown" in predict already
+        if reject and not own:
             raise ValueError(
-                f"the model {model_file.name} expects arrays of {n_joints} joint angles, "
-                f"got {X.shape[1]}"
+                f"{name} was trained without rejection: train it again with --reject-rate"
             )
-    labels = model.predict(X)
-    table = classification_table(labels, model.predict_proba(X), model.classes_)
+        if not reject and model_file is None:  # the bundled model rejects on request only
+            rejected = labels == getattr(model, "unknown_label", "unknown")
+            labels[rejected] = model.classes_[np.argmax(proba[rejected], axis=1)]
+    elif reject or reject_below is not None:
+        threshold = reject_below if reject_below is not None else info.get("reject_below")
+        if not isinstance(threshold, int | float):
+            raise ValueError(f"{name} has no rejection threshold of its own: give --reject-below")
+        labels[best_class_score(model, X) < threshold] = "unknown"
+    table = classification_table(labels, proba, model.classes_)
     if as_json:
         click.echo(table_to_json(table))
         return
     click.echo(f"{'index':>5}  {'class':<10} {'probability':>11}")
     for i, lab, p in zip(table["index"], table["label"], table["probability"], strict=True):
-        click.echo(f"{i:>5}  {str(lab).upper():<10} {p:>11.3f}")
+        shown = "unknown" if lab == "unknown" else str(lab).upper()
+        click.echo(f"{i:>5}  {shown:<10} {p:>11.3f}")
 
 
-def _many(files, out_dir, model_file, scheduler, single) -> None:
+def _many(
+    files: str | None, out_dir: Path | None, model_file: Path | None, scheduler: str | None,
+    single: bool,
+) -> None:  # fmt: skip
     """``--files`` (optionally ``--scheduler``): one result file per input file."""
     if files is None or single:
         raise click.UsageError(
             "--files/--scheduler take the place of ANGLES and --file: give --files GLOB"
         )
-    model, n_joints = model_from_file(model_file) if model_file is not None else (None, None)
+    model, n_joints = None, None
+    if model_file is not None:
+        model, _ = model_from_file(model_file)
+        n_joints = int(model.n_features_in_)
     from ._files import classify_files
 
     with dask_client(scheduler) as client:

@@ -82,11 +82,20 @@ def read_angle_file(path: Path) -> np.ndarray:
                 f"{path}: expected a 1-D or 2-D array of real numbers, got {arr.dtype} {arr.shape}"
             )
         return np.atleast_2d(arr.astype(np.float64))
-    rows = []
     try:
         lines = path.read_text().splitlines()
     except UnicodeDecodeError as exc:
         raise ValueError(f"{path}: not a text file") from exc
+    return parse_angle_rows(lines, str(path))
+
+
+def parse_angle_rows(lines: list[str], source: str) -> np.ndarray:
+    """Angle arrays, one per line (``#`` starts a comment), as a 2-D array.
+
+    >>> parse_angle_rows(["0 0 pi", "# note", "pi 0 0"], "input").shape
+    (2, 3)
+    """
+    rows = []
     for lineno, line in enumerate(lines, 1):
         line = line.split("#", 1)[0].strip()
         if not line:
@@ -94,12 +103,12 @@ def read_angle_file(path: Path) -> np.ndarray:
         try:
             rows.append(parse_angle_list(line))
         except ValueError as exc:
-            raise ValueError(f"{path}, line {lineno}: {exc}") from exc
+            raise ValueError(f"{source}, line {lineno}: {exc}") from exc
     if not rows:
-        raise ValueError(f"{path}: no angle arrays found")
+        raise ValueError(f"{source}: no angle arrays found")
     lengths = {r.size for r in rows}
     if len(lengths) > 1:
-        raise ValueError(f"{path}: rows have different numbers of angles {sorted(lengths)}")
+        raise ValueError(f"{source}: rows have different numbers of angles {sorted(lengths)}")
     return np.vstack(rows)
 
 

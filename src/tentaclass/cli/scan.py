@@ -87,7 +87,7 @@ def _emit(objects: list, stats: Counter, out: list | None) -> None:
     "--model",
     "model_file",
     type=click.Path(dir_okay=False, path_type=Path),
-    help="A model saved with ScannerModel.save (.npz); default the thesis's classes.",
+    help="A model saved with ScannerModel.save (.tcm); default the thesis's classes.",
 )
 @click.option(
     "--max-height",

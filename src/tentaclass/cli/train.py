@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import csv
+import glob
+import re
 import zipfile
 from pathlib import Path
 
@@ -10,9 +12,8 @@ import click
 import numpy as np
 
 from .._validation import as_angle_array
-from ..classifiers import FourierClassifier, RBFNetworkClassifier
 from ..io import save_model
-from .options import dask_client, parse_angle, predict_on, scheduler_option
+from .options import dask_client, finite, parse_angle, predict_on, scheduler_option
 
 
 class Spread(click.ParamType):
@@ -92,6 +93,12 @@ def _read_csv(path: Path) -> tuple[np.ndarray, np.ndarray]:
     lengths = sorted({len(r) for r in rows})
     if len(lengths) > 1:
         raise ValueError(f"{path}: rows have different numbers of angles {lengths}")
+    angle_like = [lab for lab in labels if not _not_angle(lab) and not lab.lstrip("+-").isdigit()]
+    if len(angle_like) == len(labels):
+        raise ValueError(
+            f"{path}: the last column holds angles (e.g. {angle_like[0]!r}), not labels: "
+            "each row needs the angles, then the class label"
+        )
     return np.array(rows), np.array(labels)
 
 
@@ -120,13 +127,249 @@ def read_training_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     return X, y
 
 
+_NUMBERED = re.compile(r"^(.*?)[-_ ]*\d+$")
+
+
+def label_from_name(path: Path) -> str:
+    """Class label from a file name: ``apple-3.png`` -> ``apple``, ``cup.csv`` -> ``cup``.
+
+    >>> label_from_name(Path("shapes/apple-3.png")), label_from_name(Path("cup.npy"))
+    ('apple', 'cup')
+    """
+    stem = path.stem
+    m = _NUMBERED.match(stem)
+    return m[1] if m and m[1] else stem
+
+
+def read_labels(path: Path) -> dict[str, str]:
+    """``file,label`` rows (a header row ``file,label`` is skipped): file name -> label."""
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file") from None
+    labels: dict[str, str] = {}
+    for lineno, row in enumerate(csv.reader(text.splitlines()), 1):
+        row = [f.strip() for f in row]
+        if not row or not any(row) or row[0].startswith("#"):
+            continue
+        if len(row) != 2 or not row[0] or not row[1]:
+            raise ValueError(f"{path}, line {lineno}: expected 'file,label', got {','.join(row)!r}")
+        if lineno == 1 and row == ["file", "label"]:
+            continue
+        labels[Path(row[0]).name] = row[1]
+    if not labels:
+        raise ValueError(f"{path}: no 'file,label' rows found")
+    return labels
+
+
+def read_outline(path: Path) -> np.ndarray:
+    """One outline from an image (largest object), a CSV of ``x,y`` rows or an ``.npy``."""
+    from ..shapes import as_outline, from_mask, read_silhouette
+
+    suffix = path.suffix.lower()
+    if suffix in (".png", ".gif", ".bmp", ".jpg", ".jpeg", ".tif", ".tiff", ".pbm", ".pgm"):
+        try:
+            mask = read_silhouette(path)
+        except OSError as exc:
+            raise ValueError(f"{path}: not a readable image ({exc})") from None
+        if not mask.any():
+            raise ValueError(f"{path}: the image holds no object (nonzero pixels)")
+        return from_mask(mask)
+    if suffix == ".npy":
+        with open(path, "rb") as fh:
+            if fh.read(6) != b"\x93NUMPY":
+                raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
+        try:
+            points = np.load(path, allow_pickle=False)
+        except (ValueError, OSError) as exc:
+            raise ValueError(f"{path}: not a readable .npy file ({exc})") from None
+    else:
+        try:
+            rows = [r for r in csv.reader(path.read_text().splitlines()) if r and any(r)]
+            points = np.array([[float(v) for v in r] for r in rows if not r[0].startswith("#")])
+        except (ValueError, UnicodeDecodeError):
+            raise ValueError(f"{path}: expected 'x,y' rows of numbers") from None
+    try:
+        return as_outline(points, str(path))
+    except ValueError as exc:
+        raise ValueError(f"{path}: {str(exc).splitlines()[0]}") from None
+
+
+def _outline_files(patterns: tuple[str, ...]) -> list[Path]:
+    found: list[Path] = []
+    for pattern in patterns:
+        matches = sorted(Path(p) for p in glob.glob(pattern, recursive=True))
+        matches = [p for p in matches if p.is_file()]
+        if not matches:
+            raise ValueError(f"--outlines {pattern!r} matches no file")
+        found += matches
+    return found
+
+
+def _pair(text: str | None, name: str, default: tuple[float, float] | None, one_is_max=False):
+    if text is None:
+        return default
+    try:
+        values = [float(t) for t in text.replace(",", " ").split()]
+    except ValueError:
+        raise ValueError(f"{name}: {text!r} is not a number or MIN,MAX") from None
+    if len(values) == 1:
+        values = [0.0, values[0]] if one_is_max else values * 2
+    if len(values) != 2 or not all(np.isfinite(values)) or values[0] > values[1]:
+        raise ValueError(f"{name}: expected MIN,MAX with MIN <= MAX, got {text!r}")
+    return values[0], values[1]
+
+
+def _progress_bar(total_label: str):
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+
+    return Progress(
+        f"[progress.description]{total_label}",
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeRemainingColumn(),
+        console=_stderr_console(),
+        transient=True,
+    )
+
+
+def _stderr_console():
+    from rich.console import Console
+
+    return Console(stderr=True)
+
+
+def train_for_chain(
+    files: list[Path],
+    labels: list[str],
+    *,
+    n_links: int,
+    link_length: float,
+    laps,
+    diameters,
+    offset,
+    noise,
+    n_wraps: int,
+    mode: str,
+    random_state: int,
+    reject_rate: float | None = None,
+    quiet: bool = False,
+):
+    """Wrap the outlines with the chain, train the default recogniser; model and info."""
+    from ..datasets import chain_wraps
+    from ..io import rejection_threshold
+
+    outlines = [read_outline(f) for f in files]
+    y_files = np.array(labels)
+    settings = {"link_length": link_length, "laps": laps, "diameters": diameters,
+                "offset_links": offset, "noise": noise, "mode": mode}  # fmt: skip
+    with _progress_bar("wrapping") as bar:
+        task = bar.add_task("wraps", total=len(outlines) * n_wraps, visible=not quiet)
+        train = chain_wraps(
+            outlines, n_links, n_wraps=n_wraps, random_state=random_state,
+            progress=lambda done, total: bar.update(task, completed=done), **settings,
+        )  # fmt: skip
+        held_n = max(2, n_wraps // 10)
+        task = bar.add_task("held out", total=len(outlines) * held_n, visible=not quiet)
+        held = chain_wraps(
+            outlines, n_links, n_wraps=held_n, random_state=random_state + 1,
+            progress=lambda done, total: bar.update(task, completed=done), **settings,
+        )  # fmt: skip
+    chain = {"n_links": n_links, **settings}
+    y = y_files[train.outline]
+    if np.unique(y).size < 2:
+        raise ValueError(
+            f"the wraps that worked cover only {np.unique(y).tolist()}; at least 2 classes are "
+            "needed"
+        )
+    from ..classifiers import TentacleClassifier
+
+    own_reject = "reject" in TentacleClassifier().get_params()
+    if own_reject and reject_rate is not None:
+        model = TentacleClassifier(reject=reject_rate).fit(train.data, y)
+    else:
+        model = TentacleClassifier().fit(train.data, y)
+    held_y = y_files[held.outline]
+    info = {
+        "chain": {**chain, "n_wraps": n_wraps, "random_state": random_state},
+        "classes": [str(c) for c in model.classes_],
+        "outlines": [f.name for f in files],
+        "training": {
+            "n_samples": len(train.data),
+            "n_failed": train.n_failed,
+            "held_out_accuracy": float(np.mean(model.predict(held.data) == held_y)),
+        },
+    }
+    if not own_reject:
+        try:
+            rate = 0.01 if reject_rate is None else reject_rate
+            info["reject_below"] = rejection_threshold(model, held.data, rate)
+        except ValueError:
+            pass  # a classifier without class scores: no rejection
+    return model, info
+
+
 @click.command()
 @click.option(
     "--data",
     "data",
-    required=True,
     type=click.Path(exists=True, dir_okay=False, path_type=Path),
     help=".npz with arrays X (n_samples, n_joints) and y, or a CSV: angles..., label.",
+)
+@click.option(
+    "--outlines",
+    "outlines",
+    multiple=True,
+    help="Object outlines to wrap (a glob such as 'shapes/*.png'; images, x,y CSV or .npy). "
+    "The class is the file name without a trailing number (apple-3.png -> apple).",
+)
+@click.option(
+    "--labels",
+    "labels_file",
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    help="With --outlines: CSV of 'file,label' rows instead of labels from file names.",
+)
+@click.option(
+    "--links", "n_links", type=click.IntRange(min=3, max=100_000),
+    help="With --outlines: links of the robot's chain.",
+)  # fmt: skip
+@click.option(
+    "--link-length",
+    type=click.FloatRange(min=0, min_open=True),
+    default=1.0,
+    show_default=True,
+    callback=finite,
+    help="With --outlines: length of one link.",
+)
+@click.option("--laps", "laps_text", help="Laps the chain covers, MIN,MAX [default: 1,2].")
+@click.option(
+    "--diameters", "diameters_text",
+    help="Object diameters MIN,MAX in link-length units (instead of --laps).",
+)  # fmt: skip
+@click.option(
+    "--offset", "offset_text",
+    help="Stand-off of the base from the object, MIN,MAX links [default: 0,2].",
+)  # fmt: skip
+@click.option(
+    "--noise", "noise_text", help="Joint-noise sigma, MAX or MIN,MAX radians [default: 0]."
+)
+@click.option(
+    "--wraps-per-outline", "n_wraps", type=click.IntRange(min=1, max=1_000_000), default=100,
+    show_default=True, help="Wraps generated per outline.",
+)  # fmt: skip
+@click.option(
+    "--mode", type=click.Choice(["taut", "hug", "both"]), default="both", show_default=True,
+    help="How the chain lies on concave outlines.",
+)  # fmt: skip
+@click.option(
+    "--random-state", type=click.IntRange(min=0), default=0, show_default=True,
+    help="Seed of the generated wraps.",
+)  # fmt: skip
+@click.option(
+    "--reject-rate",
+    type=click.FloatRange(0, 1, min_open=True, max_open=True),
+    help="With --outlines: train the model to answer 'unknown' for objects unlike every "
+    "class, rejecting about this fraction of known ones (e.g. 0.02).",
 )
 @click.option(
     "--out",
@@ -140,30 +383,44 @@ def read_training_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     type=click.Choice(["pnn", "rbf"]),
     default="pnn",
     show_default=True,
-    help="Probabilistic neural network or radial-basis-function network.",
+    help="With --data: probabilistic neural network or radial-basis-function network.",
 )
 @click.option(
     "--spread",
     type=Spread(),
     default="auto",
     show_default=True,
-    help="Kernel width, or 'auto' to choose it on the training data.",
+    help="With --data: kernel width, or 'auto' to choose it on the training data.",
 )
 @click.option(
     "--n-coeffs",
     type=click.IntRange(min=1),
     default=None,
-    help="Fourier coefficients kept [default: n_joints // 2].",
+    help="With --data: Fourier coefficients kept [default: n_joints // 2].",
 )
 @click.option(
     "--detrend/--no-detrend",
     default=True,
     show_default=True,
-    help="Ramp through the measured total turn (robust to joint noise).",
+    help="With --data: ramp through the measured total turn (robust to joint noise).",
 )
 @scheduler_option
+@click.pass_context
 def train(
-    data: Path,
+    ctx: click.Context,
+    data: Path | None,
+    outlines: tuple[str, ...],
+    labels_file: Path | None,
+    n_links: int | None,
+    link_length: float,
+    laps_text: str | None,
+    diameters_text: str | None,
+    offset_text: str | None,
+    noise_text: str | None,
+    n_wraps: int,
+    mode: str,
+    random_state: int,
+    reject_rate: float | None,
     out: Path,
     classifier: str,
     spread: float | str,
@@ -171,10 +428,65 @@ def train(
     detrend: bool,
     scheduler: str | None = None,
 ) -> None:
-    """Train a classifier on labelled joint-angle arrays and save it to --out.
+    """Train a recogniser and save it to --out.
+
+    Either for a robot's chain: --outlines of the objects and the chain's
+    --links and --link-length; the outlines are wrapped at random sizes,
+    rotations, starts and stand-offs and the default recogniser is trained on
+    those wraps. Or on measured arrays: --data with labelled joint angles.
 
     Use the model with "tentaclass classify --model FILE".
     """
+    if (data is None) == (not outlines):
+        raise ValueError("give either --data or --outlines")
+    if data is not None:
+        _train_on_arrays(data, out, classifier, spread, n_coeffs, detrend, scheduler)
+        return
+    if n_links is None:
+        raise ValueError("--outlines needs --links (the chain's number of links)")
+    if laps_text is not None and diameters_text is not None:
+        raise ValueError("give either --laps or --diameters, not both")
+    diameters = _pair(diameters_text, "--diameters", None)
+    laps = None if diameters is not None else _pair(laps_text, "--laps", (1.0, 2.0))
+    offset = _pair(offset_text, "--offset", (0.0, 2.0))
+    noise = _pair(noise_text, "--noise", (0.0, 0.0), one_is_max=True)
+    files = _outline_files(outlines)
+    if labels_file is not None:
+        table = read_labels(labels_file)
+        missing = [f.name for f in files if f.name not in table]
+        if missing:
+            raise ValueError(
+                f"{labels_file}: no label for {len(missing)} outline file(s), e.g. {missing[0]!r}"
+            )
+        labels = [table[f.name] for f in files]
+    else:
+        labels = [label_from_name(f) for f in files]
+    if len(set(labels)) < 2:
+        raise ValueError(
+            f"the outlines name only one class ({labels[0]!r}); at least 2 are needed "
+            "(labels come from file names such as apple-1.png, or from --labels)"
+        )
+    quiet = bool(ctx.find_root().obj and ctx.find_root().obj.get("quiet"))
+    model, info = train_for_chain(
+        files, labels, n_links=n_links, link_length=link_length, laps=laps,
+        diameters=diameters, offset=offset, noise=noise, n_wraps=n_wraps, mode=mode,
+        random_state=random_state, reject_rate=reject_rate, quiet=quiet,
+    )  # fmt: skip
+    save_model(model, out, info=info)
+    t = info["training"]
+    click.echo(
+        f"{len(info['classes'])} classes ({', '.join(info['classes'])}), {len(files)} outlines, "
+        f"{t['n_samples']} wraps of {n_links} links ({t['n_failed']} failed), held-out "
+        f"accuracy {t['held_out_accuracy']:.3f} -> {out}"
+    )
+
+
+def _train_on_arrays(
+    data: Path, out: Path, classifier: str, spread: float | str, n_coeffs: int | None,
+    detrend: bool, scheduler: str | None = None,
+) -> None:  # fmt: skip
+    from ..classifiers import FourierClassifier, RBFNetworkClassifier
+
     X, y = read_training_file(data)
     if classifier == "pnn":
         model = FourierClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
@@ -185,7 +497,7 @@ def train(
     with dask_client(scheduler) as client:
         model.fit(X, y)
         accuracy = float(np.mean(predict_on(model, X, client) == y))
-    save_model(model, out)
+    save_model(model, out, info={"chain": {"n_links": int(X.shape[1])}})
     used = model.pipeline_.named_steps["classifier"].spread_
     names = ", ".join(str(c) for c in model.classes_)
     click.echo(

@@ -12,6 +12,7 @@ import inspect
 import json
 import numbers
 import os
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ from shapely.geometry import Polygon
 from sklearn.utils import Bunch
 
 from .. import _dask
+from .._typing import ArrayLike
 from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
 from ..geometry import angles_to_points
@@ -578,4 +580,162 @@ def mpeg7_tentacle(
         wrap_index=np.repeat(np.arange(copies), n_shapes),
         names=np.tile(np.array(names), copies),
         DESCR=f"MPEG-7 Part B, {mode} wraps: {what}.",
+    )
+
+
+def _diameter(outline: np.ndarray) -> float:
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        hull = outline[ConvexHull(outline).vertices]
+    except QhullError:
+        hull = outline
+    d = hull[:, None, :] - hull[None, :, :]
+    return float(np.sqrt((d**2).sum(-1)).max())
+
+
+def chain_wraps(
+    outlines: Sequence[ArrayLike],
+    n_links: int,
+    link_length: float = 1.0,
+    *,
+    n_wraps: int = 50,
+    laps: tuple[float, float] | None = (1.0, 2.0),
+    diameters: tuple[float, float] | None = None,
+    offset_links: tuple[float, float] = (0.0, 2.0),
+    noise: float | tuple[float, float] = 0.0,
+    mode: str = "taut",
+    random_state: int = 0,
+    progress: Callable[[int, int], None] | None = None,
+) -> Bunch:
+    """Wraps of given outlines by one fixed chain, as a robot would measure them.
+
+    Each outline is wrapped ``n_wraps`` times by the same chain of ``n_links``
+    links of ``link_length``: every wrap draws a size (so that the chain
+    covers ``laps`` laps after its approach, or so that the object's diameter
+    is in ``diameters``), a rotation, a start point, a direction, a stand-off
+    of ``offset_links`` links and a joint-noise sigma from ``noise``. Wraps
+    that stop early are left out (``outline`` tells which remain).
+
+    Parameters
+    ----------
+    outlines : sequence of array_like of shape (n_points, 2)
+        Simple polygons; only their shape matters (they are rescaled).
+    n_links : int
+        Links of the chain (at least 3).
+    link_length : float, default=1.0
+    n_wraps : int, default=50
+        Wraps per outline.
+    laps : (float, float), optional
+        Range of laps the chain covers after its approach; default (1, 2).
+        Give ``None`` with ``diameters`` to draw sizes instead.
+    diameters : (float, float), optional
+        Range of object diameters (largest distance between two outline
+        points), in the units of ``link_length``; the number of laps then
+        follows from the size.
+    offset_links : (float, float), default=(0, 2)
+        Range of the base's stand-off from the object, in link lengths.
+    noise : float or (float, float), default=0
+        Joint-noise sigma in radians, or the range it is drawn from.
+    mode : {"taut", "hug", "both"}, default="taut"
+        How the chain lies on concave outlines; ``"both"`` draws one per wrap.
+    random_state : int, default=0
+    progress : callable, optional
+        Called as ``progress(done, total)`` while the wraps are generated.
+
+    Returns
+    -------
+    data : Bunch
+        ``data`` (n, n_links) joint angles; ``outline`` (n,) index of the
+        outline wrapped; ``laps``, ``offset`` (in links), ``noise``, ``mode``
+        (n,) per wrap; ``n_failed``, the number of wraps left out.
+
+    Examples
+    --------
+    >>> from tentaclass.shapes import square, triangle
+    >>> d = chain_wraps([square(1.0), triangle(side=1.0)], 16, n_wraps=5, laps=(1.0, 1.5))
+    >>> d.data.shape, d.outline.tolist(), d.n_failed
+    ((10, 16), [0, 0, 0, 0, 0, 1, 1, 1, 1, 1], 0)
+    >>> bool(((d.laps > 0.9) & (d.laps < 1.6)).all())
+    True
+    """
+    from ..shapes import as_outline
+
+    shapes = [as_outline(o, f"outlines[{i}]") for i, o in enumerate(outlines)]
+    if not shapes:
+        raise InputError("outlines is empty: give at least one outline")
+    n_links = check_positive_int(n_links, "n_links", minimum=3)
+    ell = check_positive_float(link_length, "link_length")
+    n_wraps = check_positive_int(n_wraps, "n_wraps")
+    if (laps is None) == (diameters is None):
+        raise InputError("give either laps or diameters (the other None)")
+    if laps is not None:
+        laps = _range(laps, "laps", allow_zero=False)
+    if diameters is not None:
+        diameters = _range(diameters, "diameters", allow_zero=False)
+        if diameters[0] < 1.0:
+            raise InputError(
+                f"diameters must be at least 1 link length (a link must fit across the "
+                f"object), got {diameters!r}"
+            )
+    offset_links = _range(offset_links, "offset_links", allow_zero=True)
+    if offset_links[1] >= n_links - 2:
+        raise InputError(
+            f"offset_links must stay below n_links - 2 = {n_links - 2} so that links reach "
+            f"the object, got {offset_links!r}"
+        )
+    nlo, nhi = _noise_range(noise)
+    if mode not in ("taut", "hug", "both"):
+        raise InputError(f"mode must be 'taut', 'hug' or 'both', got {mode!r}")
+    if isinstance(random_state, bool) or not isinstance(random_state, numbers.Integral):
+        raise InputError(f"random_state must be an integer, got {random_state!r}")
+    rng = np.random.default_rng(int(random_state))
+    total = len(shapes) * n_wraps
+    index = np.repeat(np.arange(len(shapes)), n_wraps)
+    off = rng.uniform(*offset_links, total)
+    starts = rng.uniform(0, 1, total)
+    cw = rng.random(total) < 0.5
+    sigma = rng.uniform(nlo, nhi, total)
+    hug = rng.random(total) < 0.5 if mode == "both" else np.full(total, mode == "hug")
+    theta = rng.uniform(0, 2 * np.pi, total)
+    # joint angles do not depend on the scale: wrap with unit links, objects in link lengths
+    unit = [(s - s.mean(axis=0)) / _diameter(s) for s in shapes]  # diameter 1
+    objs = [_rotated(unit[i], t) for i, t in zip(index, theta, strict=True)]
+    if laps is not None:
+        target = rng.uniform(*laps, total)
+    else:
+        size = rng.uniform(*diameters, total)
+        objs = [o * d for o, d in zip(objs, size, strict=True)]
+    out = np.full((total, n_links), np.nan)
+    got = np.zeros(total)
+    done = np.zeros(total, bool)
+    chunk = 64
+    for lo in range(0, total, chunk):
+        rows = np.arange(lo, min(lo + chunk, total))
+        for flag in (False, True):
+            sub = rows[hug[rows] == flag]
+            if sub.size == 0:
+                continue
+            objs_sub = [objs[i] for i in sub]
+            args = (starts[sub], cw[sub], "hug" if flag else "taut")
+            if laps is not None:  # scaled to the laps, rescaled once by the laps made
+                a, g, ok, _ = _fixed_chain_wraps(objs_sub, n_links, target[sub], off[sub], *args)
+            else:
+                a, g, _, ok = _wrap_rows(
+                    objs_sub, n_links, np.ones(sub.size), args[0], off[sub], args[1], args[2]
+                )
+            out[sub], got[sub], done[sub] = a, g, ok
+        if progress is not None:
+            progress(int(rows[-1]) + 1, total)
+    done &= np.isfinite(out).all(axis=1)
+    out = out + rng.normal(0.0, 1.0, out.shape) * sigma[:, None]
+    return Bunch(
+        data=out[done],
+        outline=index[done],
+        laps=got[done],
+        offset=off[done],
+        noise=sigma[done],
+        mode=np.where(hug, "hug", "taut")[done],
+        n_failed=int((~done).sum()),
+        DESCR=f"Wraps of {len(shapes)} outlines by one chain of {n_links} links of {ell:g}.",
     )

@@ -1,25 +1,27 @@
-"""Model files: fitted classifiers saved as arrays plus JSON, never as pickles.
+"""Model files: fitted estimators saved as arrays plus JSON, never as pickles.
 
 A ``.tcm`` file is a zip archive holding
 
 - ``metadata.json``: format name ``"tentaclass-model"``, format version, the
-  library version that wrote it, the estimator kind, the classes (JSON values
-  and their numpy dtype), the feature settings, the classifier's parameters
-  and fitted scalars, and for every array its shape, dtype and SHA-256;
-- one ``<name>.npy`` member per array, written and read with
-  ``allow_pickle=False``.
+  library version that wrote it, the estimator tree (below), free-form
+  ``info`` (for example the chain a model was trained for) and, for every
+  array, its shape, dtype and SHA-256;
+- one ``a<k>.npy`` member per array, written and read with ``allow_pickle=False``.
 
-Supported estimators, fitted: :class:`~tentaclass.classifiers.FourierClassifier`
-whose classifier is a PNN or an RBF network, a scikit-learn ``Pipeline`` of
-:class:`~tentaclass.features.FourierFeatures` and one of those, and a bare
-:class:`~tentaclass.classifiers.PNNClassifier` or
-:class:`~tentaclass.classifiers.RBFNetworkClassifier`.
+The estimator tree records, for every estimator, its class name (looked up in
+a fixed allow-list, never imported from a path in the file), its constructor
+parameters (``get_params(deep=False)``; nested estimators recursively) and
+its fitted state (every instance attribute that is not a parameter). Values
+are JSON scalars, strings, lists, tuples, dicts with string keys, numpy
+scalars and dtypes, arrays (numbers, booleans or text: never objects) and
+nested allowed estimators. Caches an estimator rebuilds from its state are
+not stored (the PNN's prepared kernel matrix); helper objects that only
+matter for further training are dropped (an MLP's optimiser and random
+generator, a ``RandomState`` given as ``random_state``, which is stored as
+``None``).
 
-:func:`load_model` checks everything before building the estimator and
-refuses, with :class:`~tentaclass.errors.ModelFileError` naming the problem,
-foreign files (text, a random zip, a plain ``.npz``), truncated or damaged
-files, checksum mismatches, unknown or newer format versions and
-inconsistent contents. No code from the file is ever executed.
+Version-1 files (a TentacleClassifier, a Pipeline of FourierFeatures and a
+PNN or RBF network, or a bare PNN or RBF network) are still read.
 """
 
 from __future__ import annotations
@@ -27,38 +29,36 @@ from __future__ import annotations
 import hashlib
 import io
 import json
-import numbers
+import keyword
+import math
 import os
 import zipfile
 import zlib
+from collections.abc import Callable
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from sklearn.pipeline import Pipeline
-from sklearn.utils.validation import check_is_fitted
 
-from ..classifiers import FourierClassifier, PNNClassifier, RBFNetworkClassifier
 from ..errors import InputError, ModelFileError
-from ..features import FourierFeatures
 
-__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "load_model", "save_model"]
+__all__ = ["FORMAT_NAME", "FORMAT_VERSION", "load_model", "model_info", "save_model"]
 
 #: Value of the ``format`` field of every model file.
 FORMAT_NAME = "tentaclass-model"
 
 #: Version of the file layout written by :func:`save_model`; :func:`load_model`
-#: reads this version and refuses any other.
-FORMAT_VERSION = 1
+#: reads this version and version 1.
+FORMAT_VERSION = 2
 
 _METADATA = "metadata.json"
 _MAX_METADATA_BYTES = 16 * 2**20
-_KINDS = ("FourierClassifier", "Pipeline", "PNNClassifier", "RBFNetworkClassifier")
-_CLASSIFIER_ARRAYS = {
-    "pnn": {"patterns": "f8", "class_count": "i8"},
-    "rbf": {"centers": "f8", "coef": "f8", "intercept": "f8"},
-}
-_JSON_SCALARS = (str, int, float, bool, type(None))
+_MAX_DEPTH = 48
+#: Array kinds a file may hold: booleans, integers, floats, complex, text.
+_ARRAY_KINDS = "biufcUS"
+_TAGS = ("__array__", "__dict__", "__dtype__", "__estimator__", "__float__", "__scalar__",
+         "__strings__", "__tuple__")  # fmt: skip
 
 #: What the zip reader raises on truncated or damaged archives: bad headers or
 #: CRC, corrupt deflate streams, compression methods or flags (encryption)
@@ -75,102 +75,176 @@ _ZIP_ERRORS = (
 )
 
 
+# ------------------------------------------------------------------ registry
+
+
+@lru_cache(maxsize=1)
+def _registry() -> dict[str, type]:
+    """Every class a model file may name: the project's estimators and a few of sklearn's."""
+    from sklearn.base import BaseEstimator
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.neighbors import KNeighborsClassifier
+    from sklearn.neural_network import MLPClassifier
+    from sklearn.pipeline import FeatureUnion, Pipeline
+    from sklearn.preprocessing import LabelBinarizer, StandardScaler
+
+    from .. import classifiers, features
+    from ..scanner.model import ScannerModel
+
+    own = [getattr(m, n) for m in (classifiers, features) for n in m.__all__]
+    allowed = [c for c in own if isinstance(c, type) and issubclass(c, BaseEstimator)]
+    allowed += [ScannerModel, Pipeline, FeatureUnion, StandardScaler, MLPClassifier,
+                LabelBinarizer, LogisticRegression, KNeighborsClassifier]  # fmt: skip
+    return {cls.__name__: cls for cls in allowed}
+
+
+def _rebuild_knn(est: Any) -> None:
+    est.fit(est._fit_X, est.classes_[est._y])
+
+
+#: Attributes not stored for a class (caches rebuilt from the state, or helpers
+#: that only matter for further training), and what rebuilds them on loading.
+_DERIVED: dict[str, tuple[tuple[str, ...], Callable[[Any], None] | None]] = {
+    "PNNClassifier": (("_center", "_gamma", "_pt", "_bounds"), lambda est: est._prepare()),
+    "MLPClassifier": (("_optimizer", "_random_state"), None),
+    "FixedEpochsMLPClassifier": (("_optimizer", "_random_state"), None),
+    "KNeighborsClassifier": (("_tree",), _rebuild_knn),
+}
+
+
+def _class_name(est: object) -> str:
+    name = type(est).__name__
+    if _registry().get(name) is not type(est):
+        raise InputError(
+            f"save_model cannot save a {name}: model files hold only "
+            f"{', '.join(sorted(_registry()))} (and pipelines of them)"
+        )
+    return name
+
+
 # --------------------------------------------------------------------- saving
 
 
-def _json_scalar(value: object, what: str) -> object:
-    """A JSON-able scalar (numpy scalars converted), or an InputError."""
-    if isinstance(value, np.generic):
-        value = value.item()
-    if not isinstance(value, _JSON_SCALARS):
-        raise InputError(f"cannot save {what} of type {type(value).__name__}: {value!r}")
-    if isinstance(value, float) and not np.isfinite(value):
-        raise InputError(f"cannot save non-finite {what}: {value!r}")
-    return value
+class _Writer:
+    """Encodes values into JSON-able trees, collecting arrays on the side."""
+
+    def __init__(self) -> None:
+        self.arrays: dict[str, np.ndarray] = {}
+
+    def value(self, v: Any, where: str) -> Any:
+        from sklearn.base import BaseEstimator
+
+        if v is None or isinstance(v, bool | str):
+            return v
+        if isinstance(v, int):
+            return int(v)
+        if isinstance(v, float):
+            return v if math.isfinite(v) else {"__float__": repr(v)}
+        if isinstance(v, np.ndarray):
+            return self.array(v, where)
+        if isinstance(v, np.generic):
+            if v.dtype.kind not in _ARRAY_KINDS:
+                raise InputError(f"cannot save {where}: numpy scalar of dtype {v.dtype}")
+            item = v.item()
+            if isinstance(item, float) and not math.isfinite(item):
+                item = {"__float__": repr(item)}
+            elif isinstance(item, complex | bytes):
+                return self.array(np.asarray(v), where)
+            return {"__scalar__": item, "dtype": v.dtype.str}
+        if isinstance(v, np.dtype) or (isinstance(v, type) and issubclass(v, np.generic)):
+            return {"__dtype__": _savable_dtype(np.dtype(v), where).str}
+        if isinstance(v, tuple):
+            return {"__tuple__": [self.value(x, f"{where}[{i}]") for i, x in enumerate(v)]}
+        if isinstance(v, list):
+            return [self.value(x, f"{where}[{i}]") for i, x in enumerate(v)]
+        if isinstance(v, dict):
+            if not all(isinstance(k, str) for k in v):
+                raise InputError(f"cannot save {where}: a dict whose keys are not all strings")
+            return {"__dict__": {k: self.value(x, f"{where}[{k!r}]") for k, x in v.items()}}
+        if isinstance(v, BaseEstimator):
+            return self.estimator(v, where)
+        raise InputError(f"cannot save {where} of type {type(v).__name__}: {v!r:.80}")
+
+    def array(self, arr: np.ndarray, where: str) -> dict:
+        if arr.dtype.kind == "O":
+            flat = arr.ravel().tolist()
+            if not all(isinstance(x, str) for x in flat):
+                raise InputError(f"cannot save {where}: an object array that is not all strings")
+            return {"__strings__": flat, "shape": list(arr.shape)}
+        _savable_dtype(arr.dtype, where)
+        name = f"a{len(self.arrays)}"
+        self.arrays[name] = np.ascontiguousarray(arr)
+        return {"__array__": name}
+
+    def estimator(self, est: Any, where: str) -> dict:
+        import numbers
+
+        name = _class_name(est)
+        params = est.get_params(deep=False)
+        skipped = _DERIVED.get(name, ((), None))[0]
+        enc_params = {}
+        for key, val in params.items():
+            if key == "random_state" and not isinstance(val, numbers.Integral | type(None)):
+                val = None  # a generator only matters for refitting
+            enc_params[key] = self.value(val, f"{name} parameter {key!r}")
+        state = {}
+        for key, val in vars(est).items():
+            if key in params or key in skipped or key.startswith("__"):
+                continue
+            state[key] = self.value(val, f"{name} attribute {key!r}")
+        return {"__estimator__": name, "params": enc_params, "state": state}
 
 
-def _classes_to_json(classes: np.ndarray) -> dict:
-    kind = classes.dtype.kind
-    if kind == "O":
-        if not all(isinstance(c, str) for c in classes):
-            raise InputError("cannot save object-dtype class labels that are not all strings")
-        return {"dtype": "object", "values": [str(c) for c in classes]}
-    if kind not in "Ubiuf":
-        raise InputError(f"cannot save class labels of dtype {classes.dtype}")
-    values = [_json_scalar(c, "class label") for c in classes]
-    return {"dtype": classes.dtype.str, "values": values}
-
-
-def _classifier_record(clf: object) -> tuple[dict, dict[str, np.ndarray]]:
-    """Metadata and arrays of a fitted PNN or RBF network."""
-    if isinstance(clf, PNNClassifier):
-        check_is_fitted(clf)
-        params = {
-            "spread": _json_scalar(clf.spread, "spread"),
-            "reject_below": _json_scalar(clf.reject_below, "reject_below"),
-            "unknown_label": _json_scalar(clf.unknown_label, "unknown_label"),
-            "dtype": np.dtype(clf.dtype).name,
-        }
-        fitted = {"spread_": float(clf.spread_)}
-        arrays = {"patterns": clf.patterns_, "class_count": clf.class_count_}
-        kind = "pnn"
-    elif isinstance(clf, RBFNetworkClassifier):
-        check_is_fitted(clf)
-        rs = clf.random_state
-        params = {
-            "centers": clf.centers,
-            "n_centers": _json_scalar(clf.n_centers, "n_centers"),
-            "spread": _json_scalar(clf.spread, "spread"),
-            "alpha": float(clf.alpha),
-            "goal": float(clf.goal),
-            # a RandomState object only matters for refitting: stored as None
-            "random_state": rs if isinstance(rs, numbers.Integral) else None,
-        }
-        fitted = {"spread_": float(clf.spread_)}
-        arrays = {"centers": clf.centers_, "coef": clf.coef_, "intercept": clf.intercept_}
-        kind = "rbf"
-    else:
-        raise InputError(
-            "save_model supports a PNNClassifier or RBFNetworkClassifier as classifier, "
-            f"got {type(clf).__name__}"
-        )
-    record = {
-        "kind": kind,
-        "params": params,
-        "fitted": fitted,
-        "n_features_in": int(clf.n_features_in_),
-        "classes": _classes_to_json(clf.classes_),
-    }
-    return record, arrays
-
-
-def _features_record(ff: FourierFeatures) -> dict:
-    check_is_fitted(ff)
-    return {
-        "n_coeffs": _json_scalar(ff.n_coeffs, "n_coeffs"),
-        "detrend": bool(ff.detrend),
-        "normalize": bool(ff.normalize),
-        "n_coeffs_": int(ff.n_coeffs_),
-        "n_features_in": int(ff.n_features_in_),
-    }
+def _savable_dtype(dtype: np.dtype, where: str) -> np.dtype:
+    if dtype.kind not in _ARRAY_KINDS or dtype.fields is not None or dtype.subdtype is not None:
+        raise InputError(f"cannot save {where}: arrays of dtype {dtype} are not stored")
+    return dtype
 
 
 def _npy_bytes(arr: np.ndarray) -> bytes:
     buf = io.BytesIO()
-    np.lib.format.write_array(buf, np.ascontiguousarray(arr), allow_pickle=False)
+    np.lib.format.write_array(buf, arr, allow_pickle=False)
     return buf.getvalue()
 
 
-def save_model(estimator: object, path: str | os.PathLike) -> Path:
+def _check_json(value: Any, where: str) -> None:
+    """``value`` must be plain JSON (str keys, finite numbers)."""
+    if value is None or isinstance(value, bool | str | int):
+        return
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise InputError(f"{where} must be finite, got {value!r}")
+        return
+    if isinstance(value, list | tuple):
+        for i, v in enumerate(value):
+            _check_json(v, f"{where}[{i}]")
+        return
+    if isinstance(value, dict):
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise InputError(f"{where} keys must be strings, got {k!r}")
+            _check_json(v, f"{where}[{k!r}]")
+        return
+    raise InputError(f"{where} must hold only JSON values, got {type(value).__name__}")
+
+
+def save_model(estimator: object, path: str | os.PathLike, *, info: dict | None = None) -> Path:
     """Write a fitted estimator to a ``.tcm`` model file.
 
     Parameters
     ----------
-    estimator : FourierClassifier, Pipeline, PNNClassifier or RBFNetworkClassifier
-        Fitted. A ``FourierClassifier`` must use a PNN or an RBF network; a
-        ``Pipeline`` must be ``FourierFeatures`` followed by one of those.
+    estimator : estimator
+        Fitted. Any of the project's classifiers and transformers
+        (:mod:`tentaclass.classifiers`, :mod:`tentaclass.features`), the
+        scanner's :class:`~tentaclass.scanner.ScannerModel`, and scikit-learn's
+        ``Pipeline``, ``FeatureUnion``, ``StandardScaler``, ``MLPClassifier``,
+        ``LogisticRegression`` and ``KNeighborsClassifier``, nested in any way.
     path : str or path-like
         Destination, overwritten if it exists (conventionally ``*.tcm``).
+    info : dict, optional
+        JSON-able facts to keep with the model, such as the chain it was
+        trained for (``{"chain": {"n_links": 16, "link_length": 1.0}}``);
+        read back by :func:`model_info`.
 
     Returns
     -------
@@ -179,77 +253,57 @@ def save_model(estimator: object, path: str | os.PathLike) -> Path:
     Raises
     ------
     tentaclass.errors.InputError
-        Unsupported or unfitted estimator, or a value that JSON cannot hold
-        (e.g. an ``unknown_label`` that is not a string or number).
+        An estimator outside the allow-list, or a value that cannot be stored
+        without pickle (e.g. an ``unknown_label`` that is an arbitrary object).
+    sklearn.exceptions.NotFittedError
+        The estimator is not fitted.
 
     Examples
     --------
     >>> import numpy as np, tempfile, os
-    >>> from tentaclass.classifiers import FourierClassifier
+    >>> from tentaclass.classifiers import TentacleClassifier
     >>> from tentaclass.datasets import thesis_tentacle
     >>> X, y = thesis_tentacle(16, return_X_y=True)
-    >>> clf = FourierClassifier(spread=0.5).fit(X, y)
+    >>> clf = TentacleClassifier().fit(X, y)
     >>> path = os.path.join(tempfile.mkdtemp(), "shapes.tcm")
-    >>> loaded = load_model(save_model(clf, path))
+    >>> _ = save_model(clf, path, info={"chain": {"n_links": 16}})
+    >>> loaded = load_model(path)
     >>> bool(np.array_equal(loaded.predict_proba(X), clf.predict_proba(X)))
     True
-    >>> loaded.predict(X).tolist()
-    ['square', 'circle', 'triangle', 'rectangle']
+    >>> model_info(path)["chain"]
+    {'n_links': 16}
     """
+    from sklearn.utils.validation import check_is_fitted
+
     from .. import __version__
 
+    _class_name(estimator)
+    check_is_fitted(estimator)
+    info = {} if info is None else info
+    if not isinstance(info, dict):
+        raise InputError(f"info must be a dict, got {type(info).__name__}")
+    _check_json(info, "info")
+    writer = _Writer()
+    tree = writer.estimator(estimator, "estimator")
+    blobs = {name: _npy_bytes(arr) for name, arr in writer.arrays.items()}
     meta: dict[str, Any] = {
         "format": FORMAT_NAME,
         "format_version": FORMAT_VERSION,
         "library_version": __version__,
-    }
-    if isinstance(estimator, FourierClassifier):
-        check_is_fitted(estimator)
-        features = estimator.pipeline_.named_steps["features"]
-        clf = estimator.pipeline_.named_steps["classifier"]
-        meta["estimator"] = "FourierClassifier"
-        meta["tentacle_params"] = {
-            "n_coeffs": _json_scalar(estimator.n_coeffs, "n_coeffs"),
-            "detrend": bool(estimator.detrend),
-            "normalize": bool(estimator.normalize),
-            "spread": _json_scalar(estimator.spread, "spread"),
-            "reject_below": _json_scalar(estimator.reject_below, "reject_below"),
-            "custom_classifier": estimator.classifier is not None,
-        }
-    elif isinstance(estimator, Pipeline):
-        steps = estimator.steps
-        if len(steps) != 2 or not isinstance(steps[0][1], FourierFeatures):
-            raise InputError(
-                "save_model supports a Pipeline of exactly FourierFeatures and a classifier, "
-                f"got steps {[name for name, _ in steps]}"
-            )
-        features, clf = steps[0][1], steps[1][1]
-        meta["estimator"] = "Pipeline"
-        meta["step_names"] = [str(steps[0][0]), str(steps[1][0])]
-    elif isinstance(estimator, (PNNClassifier, RBFNetworkClassifier)):
-        features, clf = None, estimator
-        meta["estimator"] = type(estimator).__name__
-    else:
-        raise InputError(
-            "save_model supports FourierClassifier, Pipeline(FourierFeatures, classifier), "
-            f"PNNClassifier and RBFNetworkClassifier, got {type(estimator).__name__}"
-        )
-    meta["features"] = None if features is None else _features_record(features)
-    record, arrays = _classifier_record(clf)
-    meta["classifier"] = record
-    meta["classes"] = record.pop("classes")
-    blobs = {name: _npy_bytes(arr) for name, arr in arrays.items()}
-    meta["arrays"] = {
-        name: {
-            "shape": list(arr.shape),
-            "dtype": np.ascontiguousarray(arr).dtype.str,
-            "sha256": hashlib.sha256(blobs[name]).hexdigest(),
-        }
-        for name, arr in arrays.items()
+        "estimator": tree,
+        "info": info,
+        "arrays": {
+            name: {
+                "shape": list(arr.shape),
+                "dtype": arr.dtype.str,
+                "sha256": hashlib.sha256(blobs[name]).hexdigest(),
+            }
+            for name, arr in writer.arrays.items()
+        },
     }
     path = Path(path)
     with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr(_METADATA, json.dumps(meta, indent=1, sort_keys=True))
+        zf.writestr(_METADATA, json.dumps(meta, indent=None, sort_keys=True))
         for name, blob in blobs.items():
             zf.writestr(f"{name}.npy", blob)
     return path
@@ -278,24 +332,17 @@ def _read_member(zf: zipfile.ZipFile, name: str, path: Path) -> bytes:
         raise ModelFileError(f"{path}: damaged model file ({name}: {exc})") from None
 
 
-def _classes_from_json(rec: object) -> np.ndarray:
-    dtype = _field(rec, "dtype", str, "classes.")
-    values = _field(rec, "values", list, "classes.")
-    if len(values) < 2 or not all(isinstance(v, _JSON_SCALARS) for v in values):
-        raise ModelFileError("metadata: classes must be a list of at least 2 scalar labels")
+def _dtype_from(text: object, where: str) -> np.dtype:
+    """A dtype from a string in the metadata: never a dict, list or object dtype."""
+    if not isinstance(text, str):
+        raise ModelFileError(f"metadata: {where} must be a dtype string, got {type(text).__name__}")
     try:
-        if dtype == "object":
-            classes = np.array(values, dtype=object)
-        else:
-            dt = np.dtype(dtype)
-            if dt.kind not in "Ubiuf":
-                raise TypeError(dtype)
-            classes = np.array(values, dtype=dt)
-    except (TypeError, ValueError, OverflowError):
-        raise ModelFileError(f"metadata: unusable classes dtype {dtype!r}") from None
-    if classes.tolist() != values or len(set(values)) != len(values):
-        raise ModelFileError("metadata: class labels do not survive their dtype or repeat")
-    return classes
+        dt = np.dtype(text)
+    except (TypeError, ValueError, SyntaxError):
+        raise ModelFileError(f"metadata: {where} {text!r} is not a dtype") from None
+    if dt.kind not in _ARRAY_KINDS or dt.fields is not None or dt.subdtype is not None:
+        raise ModelFileError(f"metadata: {where} {text!r} is not allowed (only {_ARRAY_KINDS})")
+    return dt
 
 
 def _read_arrays(zf: zipfile.ZipFile, meta: dict, path: Path) -> dict[str, np.ndarray]:
@@ -312,7 +359,7 @@ def _read_arrays(zf: zipfile.ZipFile, meta: dict, path: Path) -> dict[str, np.nd
     for name, spec in specs.items():
         where = f"arrays.{name}."
         shape = _field(spec, "shape", list, where)
-        dtype = _field(spec, "dtype", str, where)
+        dtype = _dtype_from(_field(spec, "dtype", (str, dict, list), where), f"{where}dtype")
         digest = _field(spec, "sha256", str, where)
         blob = _read_member(zf, f"{name}.npy", path)
         if hashlib.sha256(blob).hexdigest() != digest:
@@ -321,122 +368,189 @@ def _read_arrays(zf: zipfile.ZipFile, meta: dict, path: Path) -> dict[str, np.nd
             arr = np.lib.format.read_array(io.BytesIO(blob), allow_pickle=False)
         except (ValueError, OSError, EOFError) as exc:
             raise ModelFileError(f"{path}: array {name!r} is not a valid .npy ({exc})") from None
-        if list(arr.shape) != shape or arr.dtype.str != dtype:
+        if list(arr.shape) != shape or arr.dtype != dtype or arr.dtype.str != dtype.str:
             raise ModelFileError(
                 f"{path}: array {name!r} is {arr.dtype.str} {list(arr.shape)}, "
-                f"metadata says {dtype} {shape}"
+                f"metadata says {dtype.str} {shape}"
             )
         arrays[name] = arr
     return arrays
 
 
-def _build_classifier(rec: object, classes: np.ndarray, arrays: dict) -> object:
-    kind = _field(rec, "kind", str, "classifier.")
-    if kind not in _CLASSIFIER_ARRAYS:
-        raise ModelFileError(f"metadata: unknown classifier kind {kind!r}")
-    want = _CLASSIFIER_ARRAYS[kind]
-    if set(arrays) != set(want):
-        raise ModelFileError(f"metadata: a {kind} model needs arrays {sorted(want)}")
-    for name, code in want.items():
-        if arrays[name].dtype.kind != np.dtype(code).kind:
-            raise ModelFileError(f"array {name!r} has dtype {arrays[name].dtype}, expected {code}")
-        if arrays[name].dtype.kind == "f" and not np.all(np.isfinite(arrays[name])):
-            raise ModelFileError(f"array {name!r} holds NaN or infinite values")
-    params = _field(rec, "params", dict, "classifier.")
-    fitted = _field(rec, "fitted", dict, "classifier.")
-    n_features = _field(rec, "n_features_in", int, "classifier.")
-    spread_ = _field(fitted, "spread_", (int, float), "classifier.fitted.")
-    if not (np.isfinite(spread_) and spread_ > 0):
-        raise ModelFileError(f"metadata: spread_ must be a finite number > 0, got {spread_!r}")
-    n_classes = classes.size
-    try:
-        if kind == "pnn":
-            clf = PNNClassifier(**params)
-            clf._validate_params()
-            P, counts = arrays["patterns"], arrays["class_count"]
+class _Reader:
+    """Decodes the estimator tree, checking every node."""
+
+    def __init__(self, arrays: dict[str, np.ndarray]) -> None:
+        self.arrays = arrays
+        self.used: set[str] = set()
+
+    def value(self, v: Any, where: str, depth: int = 0) -> Any:
+        if depth > _MAX_DEPTH:
+            raise ModelFileError(f"metadata: {where} is nested too deeply")
+        if v is None or isinstance(v, bool | str | int):
+            return v
+        if isinstance(v, float):
+            if not math.isfinite(v):
+                raise ModelFileError(f"metadata: {where} is not a finite number")
+            return v
+        if isinstance(v, list):
+            return [self.value(x, f"{where}[{i}]", depth + 1) for i, x in enumerate(v)]
+        if not isinstance(v, dict):
+            raise ModelFileError(f"metadata: {where} has an unknown type")
+        tags = [t for t in _TAGS if t in v]
+        if len(tags) != 1:
+            raise ModelFileError(f"metadata: {where} is an object without one known tag")
+        tag = tags[0]
+        body = v[tag]
+        if tag == "__estimator__":
+            return self.estimator(v, where, depth)
+        if set(v) - {tag, "dtype", "shape"}:
+            raise ModelFileError(f"metadata: {where} has unknown fields {sorted(set(v) - {tag})}")
+        if tag == "__tuple__":
+            items = _field(v, tag, list, f"{where}.")
+            return tuple(self.value(x, f"{where}[{i}]", depth + 1) for i, x in enumerate(items))
+        if tag == "__dict__":
+            items = _field(v, tag, dict, f"{where}.")
+            return {k: self.value(x, f"{where}[{k!r}]", depth + 1) for k, x in items.items()}
+        if tag == "__float__":
+            if body not in ("nan", "inf", "-inf"):
+                raise ModelFileError(f"metadata: {where} is not nan, inf or -inf: {body!r}")
+            return float(body)
+        if tag == "__dtype__":
+            return _dtype_from(body, f"{where} dtype")
+        if tag == "__scalar__":
+            dt = _dtype_from(v.get("dtype"), f"{where} dtype")
+            if isinstance(body, dict) and set(body) == {"__float__"}:
+                body = self.value(body, where, depth + 1)
+            if body is None or (isinstance(body, list | dict | str) and dt.kind not in "US"):
+                raise ModelFileError(f"metadata: {where} is not a {dt} scalar")
+            try:
+                return np.array(body, dtype=dt)[()]
+            except (TypeError, ValueError, OverflowError):
+                raise ModelFileError(f"metadata: {where} {body!r} is not a {dt} scalar") from None
+        if tag == "__strings__":
+            items = _field(v, tag, list, f"{where}.")
+            shape = _field(v, "shape", list, f"{where}.")
+            if not all(isinstance(s, str) for s in items) or not _is_shape(shape):
+                raise ModelFileError(f"metadata: {where} must be strings with a valid shape")
+            if math.prod(shape) != len(items):
+                raise ModelFileError(f"metadata: {where} holds {len(items)} strings, not {shape}")
+            out = np.empty(len(items), dtype=object)
+            out[:] = items
+            return out.reshape(shape)
+        # "__array__"
+        if not isinstance(body, str) or body not in self.arrays:
+            raise ModelFileError(f"metadata: {where} names no array of the file ({body!r})")
+        if body in self.used:
+            raise ModelFileError(f"metadata: array {body!r} is used twice")
+        self.used.add(body)
+        return self.arrays[body]
+
+    def estimator(self, v: dict, where: str, depth: int) -> Any:
+        if set(v) != {"__estimator__", "params", "state"}:
+            raise ModelFileError(f"metadata: {where} must hold __estimator__, params and state")
+        name = v["__estimator__"]
+        if not isinstance(name, str) or name not in _registry():
+            raise ModelFileError(
+                f"metadata: {where} is a {name!r}, which is not an estimator model files may "
+                f"hold ({', '.join(sorted(_registry()))})"
+            )
+        cls = _registry()[name]
+        params = _field(v, "params", dict, f"{where}.")
+        state = _field(v, "state", dict, f"{where}.")
+        kwargs = {k: self.value(x, f"{name} parameter {k!r}", depth + 1) for k, x in params.items()}
+        try:
+            est = cls(**kwargs)
+        except (TypeError, ValueError) as exc:
+            raise ModelFileError(f"metadata: bad {name} parameters: {exc}") from None
+        if set(kwargs) != set(est.get_params(deep=False)):
+            raise ModelFileError(
+                f"metadata: {name} parameters {sorted(kwargs)} are not "
+                f"{sorted(est.get_params(deep=False))}"
+            )
+        skipped = _DERIVED.get(name, ((), None))[0]
+        for key, x in state.items():
             if (
-                P.ndim != 2
-                or P.shape[1] != n_features
-                or counts.shape != (n_classes,)
-                or np.any(counts < 1)
-                or int(counts.sum()) != P.shape[0]
+                not key.isidentifier()
+                or keyword.iskeyword(key)
+                or key.startswith("__")
+                or key in kwargs
+                or key in skipped
+                or hasattr(cls, key)
             ):
-                raise ModelFileError("PNN arrays are inconsistent with each other or the classes")
-            clf.patterns_, clf.class_count_ = P.astype(np.float64), counts.astype(np.int64)
-        else:
-            clf = RBFNetworkClassifier(**params)
-            clf._validate_params()
-            C, W, b = arrays["centers"], arrays["coef"], arrays["intercept"]
-            if (
-                C.ndim != 2
-                or C.shape[1] != n_features
-                or W.shape != (C.shape[0], n_classes)
-                or b.shape != (n_classes,)
-            ):
-                raise ModelFileError("RBF arrays are inconsistent with each other or the classes")
-            clf.centers_, clf.coef_, clf.intercept_ = C, W, b
-            clf.n_centers_ = int(C.shape[0])
-    except (TypeError, InputError) as exc:
-        raise ModelFileError(f"metadata: bad {kind} parameters: {exc}") from None
-    clf.classes_ = classes
-    clf.n_features_in_ = n_features
-    clf.spread_ = float(spread_)
-    if kind == "pnn":
-        clf._prepare()
-    return clf
+                raise ModelFileError(f"metadata: {name} cannot have the attribute {key!r}")
+            setattr(est, key, self.value(x, f"{name} attribute {key!r}", depth + 1))
+        _check_estimator(est, name)
+        return est
 
 
-def _build_features(rec: object, n_out: int) -> FourierFeatures:
-    where = "features."
-    n_coeffs = _field(rec, "n_coeffs", (int, type(None)), where)
-    ff = FourierFeatures(
-        n_coeffs=n_coeffs,
-        detrend=_field(rec, "detrend", bool, where),
-        normalize=_field(rec, "normalize", bool, where),
+def _is_shape(shape: object) -> bool:
+    return isinstance(shape, list) and all(
+        isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in shape
     )
-    ff.n_coeffs_ = _field(rec, "n_coeffs_", int, where)
-    ff.n_features_in_ = _field(rec, "n_features_in", int, where)
-    n = ff.n_features_in_
-    if not (n >= 3 and 1 <= ff.n_coeffs_ <= n // 2 and ff.n_coeffs_ == n_out):
-        raise ModelFileError(
-            f"metadata: features ({n} joints -> {ff.n_coeffs_} coefficients) do not fit "
-            f"a classifier of {n_out} features"
-        )
-    return ff
 
 
-def load_model(path: str | os.PathLike) -> object:
-    """Read a model written by :func:`save_model`.
+def _check_pnn(est: Any) -> None:
+    P, counts = est.patterns_, est.class_count_
+    n_classes = len(est.classes_)
+    if (
+        not isinstance(P, np.ndarray)
+        or P.dtype.kind != "f"
+        or P.ndim != 2
+        or P.shape[1] != est.n_features_in_
+        or not isinstance(counts, np.ndarray)
+        or counts.dtype.kind not in "iu"
+        or counts.shape != (n_classes,)
+        or np.any(counts < 1)
+        or int(counts.sum()) != P.shape[0]
+    ):
+        raise ModelFileError("PNN arrays are inconsistent with each other or the classes")
+    if not np.all(np.isfinite(P)):
+        raise ModelFileError("PNN patterns hold NaN or infinite values")
+    spread = est.spread_
+    if not (isinstance(spread, float | int) and math.isfinite(spread) and spread > 0):
+        raise ModelFileError(f"PNN spread_ must be a finite number > 0, got {est.spread_!r}")
 
-    Parameters
-    ----------
-    path : str or path-like
 
-    Returns
-    -------
-    estimator : FourierClassifier, Pipeline, PNNClassifier or RBFNetworkClassifier
-        Fitted, predicting exactly as the saved one did.
+def _check_rbf(est: Any) -> None:
+    C, W, b = est.centers_, est.coef_, est.intercept_
+    n_classes = len(est.classes_)
+    if not all(isinstance(a, np.ndarray) and a.dtype.kind == "f" for a in (C, W, b)) or (
+        C.ndim != 2
+        or C.shape[1] != est.n_features_in_
+        or W.shape != (C.shape[0], n_classes)
+        or b.shape != (n_classes,)
+    ):
+        raise ModelFileError("RBF arrays are inconsistent with each other or the classes")
 
-    Raises
-    ------
-    tentaclass.errors.ModelFileError
-        The file is not a tentaclass model (text, random zip, plain ``.npz``),
-        is truncated or damaged (bad zip, checksum mismatch), has an unknown
-        or newer format version, or its contents are inconsistent.
-    FileNotFoundError
-        No file at ``path``.
 
-    Examples
-    --------
-    >>> import tempfile, os
-    >>> bad = os.path.join(tempfile.mkdtemp(), "notes.tcm")
-    >>> with open(bad, "w") as f:
-    ...     _ = f.write("hello")
-    >>> load_model(bad)
-    Traceback (most recent call last):
-    ...
-    tentaclass.errors.ModelFileError: ...notes.tcm: not a tentaclass model file (not a zip archive)
-    """
+_CHECKS: dict[str, Callable[[Any], None]] = {
+    "PNNClassifier": _check_pnn,
+    "RBFNetworkClassifier": _check_rbf,
+}
+
+
+def _check_estimator(est: Any, name: str) -> None:
+    """Validate parameters and state, then rebuild derived caches."""
+    from sklearn.base import BaseEstimator
+
+    own_check = getattr(type(est), "_validate_params", None) is not BaseEstimator._validate_params
+    try:
+        if hasattr(est, "_parameter_constraints") or own_check:
+            est._validate_params()
+        if name in _CHECKS and hasattr(est, "classes_"):
+            _CHECKS[name](est)
+        rebuild = _DERIVED.get(name, ((), None))[1]
+        if rebuild is not None and hasattr(est, "n_features_in_"):
+            rebuild(est)
+    except ModelFileError as exc:
+        raise ModelFileError(f"metadata: {name}: {exc}") from None
+    except (TypeError, ValueError, KeyError, AttributeError, IndexError) as exc:
+        raise ModelFileError(f"metadata: bad {name} parameters or state: {exc}") from None
+
+
+def _open(path: str | os.PathLike) -> tuple[dict, dict[str, np.ndarray], Path]:
+    """Metadata and checked arrays of a model file."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such model file")
@@ -455,7 +569,7 @@ def load_model(path: str | os.PathLike) -> object:
         raw = _read_member(zf, _METADATA, path)
         try:
             meta = json.loads(raw.decode("utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
             raise ModelFileError(f"{path}: {_METADATA} is not valid JSON ({exc})") from None
         if not isinstance(meta, dict) or meta.get("format") != FORMAT_NAME:
             raise ModelFileError(
@@ -470,54 +584,107 @@ def load_model(path: str | os.PathLike) -> object:
                 f"({FORMAT_VERSION}); upgrade tentaclass (file written by version "
                 f"{meta.get('library_version')!r})"
             )
-        if version != FORMAT_VERSION:
+        if version not in (1, FORMAT_VERSION):
             raise ModelFileError(f"{path}: unknown format version {version!r}")
-        arrays = _read_arrays(zf, meta, path)
+        try:
+            arrays = _read_arrays(zf, meta, path)
+        except ModelFileError as exc:
+            msg = str(exc)
+            raise ModelFileError(msg if msg.startswith(str(path)) else f"{path}: {msg}") from None
+    return meta, arrays, path
+
+
+def model_info(path: str | os.PathLike) -> dict:
+    """The ``info`` stored with a model, plus what the file says about itself.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    info : dict
+        The ``info`` given to :func:`save_model` (empty for version-1 files),
+        with ``"estimator"`` (class name), ``"format_version"`` and
+        ``"library_version"`` added.
+
+    Raises
+    ------
+    tentaclass.errors.ModelFileError
+        As :func:`load_model`.
+
+    Examples
+    --------
+    >>> from importlib.resources import files
+    >>> info = model_info(files("tentaclass.data") / "default-16.tcm")
+    >>> info["chain"]["n_links"], info["estimator"]
+    (16, 'Pipeline')
+    """
+    meta, _, path = _open(path)
+    info = meta.get("info", {})
+    if not isinstance(info, dict):
+        raise ModelFileError(f"{path}: metadata: info must be an object")
+    tree = meta.get("estimator")
+    name = tree.get("__estimator__") if isinstance(tree, dict) else tree
+    return {
+        **info,
+        "estimator": name if isinstance(name, str) else None,
+        "format_version": meta["format_version"],
+        "library_version": meta.get("library_version"),
+    }
+
+
+def load_model(path: str | os.PathLike) -> Any:
+    """Read a model written by :func:`save_model`.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    estimator : estimator
+        Fitted, predicting exactly as the saved one did.
+
+    Raises
+    ------
+    tentaclass.errors.ModelFileError
+        The file is not a tentaclass model (text, random zip, plain ``.npz``),
+        is truncated or damaged (bad zip, checksum mismatch), has an unknown
+        or newer format version, names a class outside the allow-list, holds
+        an object or structured dtype, a dtype that is not a string, or
+        parameters and arrays that do not fit together.
+    FileNotFoundError
+        No file at ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> bad = os.path.join(tempfile.mkdtemp(), "notes.tcm")
+    >>> with open(bad, "w") as f:
+    ...     _ = f.write("hello")
+    >>> load_model(bad)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.ModelFileError: ...notes.tcm: not a tentaclass model file (not a zip archive)
+    """
+    meta, arrays, path = _open(path)
     try:
-        return _build(meta, arrays)
+        if meta["format_version"] == 1:
+            from ._v1 import build_v1
+
+            return build_v1(meta, arrays)
+        _field(meta, "library_version", str, "")
+        info = meta.get("info", {})
+        if not isinstance(info, dict):
+            raise ModelFileError("metadata: info must be an object")
+        reader = _Reader(arrays)
+        tree = _field(meta, "estimator", dict, "")
+        if "__estimator__" not in tree:
+            raise ModelFileError("metadata: estimator is not an estimator record")
+        est = reader.value(tree, "estimator")
+        if reader.used != set(arrays):
+            raise ModelFileError(f"metadata: arrays {sorted(set(arrays) - reader.used)} unused")
+        return est
     except ModelFileError as exc:
         raise ModelFileError(f"{path}: {exc}") from None
-
-
-def _build(meta: dict, arrays: dict[str, np.ndarray]) -> object:
-    kind = _field(meta, "estimator", str, "")
-    if kind not in _KINDS:
-        raise ModelFileError(f"metadata: unknown estimator kind {kind!r}")
-    _field(meta, "library_version", str, "")
-    classes = _classes_from_json(meta.get("classes"))
-    clf = _build_classifier(meta.get("classifier"), classes, arrays)
-    features_rec = meta.get("features")
-    if kind in ("PNNClassifier", "RBFNetworkClassifier"):
-        expected = "pnn" if kind == "PNNClassifier" else "rbf"
-        if meta["classifier"]["kind"] != expected or features_rec is not None:
-            raise ModelFileError(f"metadata: a {kind} has no features and a {expected} classifier")
-        return clf
-    features = _build_features(features_rec, clf.n_features_in_)
-    if kind == "Pipeline":
-        names = _field(meta, "step_names", list, "")
-        if len(names) != 2 or not all(isinstance(n, str) for n in names) or names[0] == names[1]:
-            raise ModelFileError("metadata: step_names must be two distinct strings")
-        return Pipeline([(names[0], features), (names[1], clf)])
-    tp = _field(meta, "tentacle_params", dict, "")
-    where = "tentacle_params."
-    custom = _field(tp, "custom_classifier", bool, where)
-    params = {
-        "n_coeffs": _field(tp, "n_coeffs", (int, type(None)), where),
-        "detrend": _field(tp, "detrend", bool, where),
-        "normalize": _field(tp, "normalize", bool, where),
-        "spread": _field(tp, "spread", (int, float, str), where),
-        "reject_below": _field(tp, "reject_below", (int, float, type(None)), where),
-    }
-    if not custom and not isinstance(clf, PNNClassifier):
-        raise ModelFileError("metadata: a FourierClassifier without custom classifier uses a PNN")
-    model = FourierClassifier(**params, classifier=_unfitted_copy(clf) if custom else None)
-    model.pipeline_ = Pipeline([("features", features), ("classifier", clf)])
-    model.classes_ = clf.classes_
-    model.n_features_in_ = features.n_features_in_
-    return model
-
-
-def _unfitted_copy(clf: object) -> object:
-    from sklearn.base import clone
-
-    return clone(clf)

@@ -3,14 +3,14 @@
 :class:`ScannerModel` learns classes from example grids (a handful per class
 is enough). :func:`default_model` is the thesis's four classes, learned from
 the thesis's 16 training grids *and* 400 generated clean shapes (see its
-docstring). Models are saved without pickle: one ``.npz`` file holding the
-training features and labels as plain arrays and a JSON metadata string;
-loading refits the (cheap, deterministic) classifier on the stored features.
+docstring). Models are saved without pickle, in the ``.tcm`` format of
+:func:`tentaclass.io.save_model`.
 """
 
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Sequence
 from functools import lru_cache
 from pathlib import Path
@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin, clone
+from sklearn.exceptions import NotFittedError
 from sklearn.neighbors import KNeighborsClassifier
 from sklearn.utils.validation import check_is_fitted
 
@@ -30,11 +31,11 @@ from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_ma
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "ScannerModel", "default_model"]
 
 FORMAT_NAME = "tentaclass-scanner-model"
-"""Value of ``format`` in a saved model's metadata."""
+"""Value of ``format`` in the metadata of the former ``.npz`` model files."""
 FORMAT_VERSION = 1
-"""The only model file version this release reads and writes."""
+"""The only version of the former ``.npz`` format."""
 
-# Classifiers a model file can name: rebuilt from their JSON parameters on load.
+# Classifiers a former .npz model file can name: rebuilt from their JSON parameters.
 _SAVABLE = {"PNNClassifier": PNNClassifier, "KNeighborsClassifier": KNeighborsClassifier}
 
 
@@ -56,9 +57,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         whatever happens to vary little among the examples, such as the pixel
         scale when all examples have one size). Default
         ``PNNClassifier(spread=0.1)``, a probabilistic neural network with
-        MATLAB newpnn's default spread. Only
-        :class:`~tentaclass.classifiers.PNNClassifier` and
-        :class:`~sklearn.neighbors.KNeighborsClassifier` can be saved.
+        MATLAB newpnn's default spread. Any classifier
+        :func:`tentaclass.io.save_model` holds can be saved.
     descriptors : sequence of {"hull", "outline", "region"}, default=("hull",)
         Descriptor groups (:mod:`tentaclass.scanner.descriptors`). ``"hull"``
         ignores holes and bites, so damaged objects keep their class; add
@@ -233,61 +233,36 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
 
     # -- files -------------------------------------------------------------------------------
     def save(self, path: str | Path) -> None:
-        """Write the model to an ``.npz`` file (no pickle).
+        """Write the model to a ``.tcm`` model file (see :func:`tentaclass.io.save_model`).
 
-        The file holds ``features`` (float64), ``labels`` (unicode), ``sizes``
-        (float64) and ``metadata``, a JSON string with ``format``, ``version``,
-        ``classes``, ``descriptors``, ``n_points``, ``n_coeffs``,
-        ``feature_names`` and ``classifier`` (``{"name": ..., "params": ...}``).
+        The file holds the descriptor settings, the training descriptors
+        (``features_``), labels and sizes, and the fitted classifier, as
+        arrays plus JSON, in the format every tentaclass model uses.
 
         Raises
         ------
         InputError
-            If the classifier is not one that can be rebuilt from its parameters.
+            If the classifier is not one that model files can hold.
         """
+        from ..io import save_model
+
         check_is_fitted(self)
-        desc, n_points, n_coeffs = self._check_params()
-        clf = self.classifier_
-        name = type(clf).__name__
-        if _SAVABLE.get(name) is not type(clf):
-            raise InputError(
-                f"cannot save a model with a {name}: only {sorted(_SAVABLE)} can be saved "
-                "without pickle"
-            )
-        params = clf.get_params(deep=False)
-        try:
-            meta = json.dumps(
-                {
-                    "format": FORMAT_NAME,
-                    "version": FORMAT_VERSION,
-                    "classes": self.classes_.tolist(),
-                    "descriptors": list(desc),
-                    "n_points": n_points,
-                    "n_coeffs": n_coeffs,
-                    "feature_names": self.feature_names_,
-                    "classifier": {"name": name, "params": params},
-                }
-            )
-        except TypeError as exc:
-            raise InputError(f"classifier parameters are not JSON serialisable: {exc}") from exc
-        with open(path, "wb") as fh:
-            np.savez_compressed(
-                fh,
-                features=self.features_,
-                labels=self.labels_.astype(str),
-                sizes=self.sizes_,
-                metadata=np.array(meta),
-            )
+        self._check_params()
+        save_model(self, path)
 
     @classmethod
     def load(cls, path: str | Path) -> ScannerModel:
         """Read a model written by :meth:`save`, checking everything.
 
+        Files in the scanner's former ``.npz`` format are still read, with a
+        ``DeprecationWarning``: save them again to convert them.
+
         Raises
         ------
         ModelFileError
-            If the file is missing, not an ``.npz``, from another program or an
-            unknown format version, or its arrays are inconsistent.
+            If the file is missing, not a model file, from an unknown format
+            version, holds another kind of model, or its contents are
+            inconsistent.
 
         Examples
         --------
@@ -295,12 +270,38 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         >>> from tentaclass.datasets import thesis_scanner
         >>> d = thesis_scanner()
         >>> model = ScannerModel().fit(d.grids, d.target)
-        >>> path = os.path.join(tempfile.mkdtemp(), "model.npz")
+        >>> path = os.path.join(tempfile.mkdtemp(), "model.tcm")
         >>> model.save(path)
         >>> ScannerModel.load(path).predict(d.grids[4:6]).tolist()
         ['circle', 'circle']
         """
+        from ..io import load_model
+
         path = Path(path)
+        if not path.is_file():
+            raise ModelFileError(f"{path}: no such model file")
+        if _is_legacy_npz(path):
+            model = cls._load_npz(path)
+            warnings.warn(
+                f"{path}: the scanner's .npz model format is deprecated and will not be "
+                "read in the next release; save the model again to write a .tcm file",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return model
+        model = load_model(path)
+        if not isinstance(model, cls):
+            raise ModelFileError(f"{path}: holds a {type(model).__name__}, not a scanner model")
+        try:
+            check_is_fitted(model)
+            model._check_params()
+        except (InputError, NotFittedError) as exc:
+            raise ModelFileError(f"{path}: not a usable scanner model ({exc})") from None
+        return model
+
+    @classmethod
+    def _load_npz(cls, path: Path) -> ScannerModel:
+        """Read the former ``.npz`` format (features, labels, sizes, JSON metadata)."""
         try:
             with open(path, "rb") as fh:
                 npz = np.load(fh, allow_pickle=False)
@@ -406,3 +407,16 @@ def default_model() -> ScannerModel:
     ['circle', 'rectangle', 'square', 'triangle']
     """
     return _default_model()
+
+
+def _is_legacy_npz(path: Path) -> bool:
+    """Whether ``path`` is a zip holding ``metadata.npy`` (the former scanner format)."""
+    import zipfile
+
+    try:
+        with zipfile.ZipFile(path) as zf:
+            names = zf.namelist()
+    except Exception:  # whatever a damaged zip raises: load_model names the problem
+        return False
+    return "metadata.npy" in names and "metadata.json" not in names
+

@@ -1,0 +1,1 @@
+"""Package data: the bundled default models (``default-<n_links>.tcm``)."""

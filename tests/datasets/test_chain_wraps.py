@@ -1,0 +1,72 @@
+import numpy as np
+import pytest
+
+from tentaclass.datasets import chain_wraps
+from tentaclass.errors import InputError
+from tentaclass.shapes import circle, rectangle, square, triangle
+from tentaclass.wrapping import grasp_state
+
+OUTLINES = [square(1.0), circle(1.0), triangle(side=1.0), rectangle(3.0, 1.0)]
+
+
+def test_laps_offsets_and_reproducibility():
+    kw = dict(n_wraps=12, laps=(1.2, 1.8), offset_links=(0.0, 2.0), random_state=3)
+    d = chain_wraps(OUTLINES, 24, 0.5, **kw)
+    assert d.n_failed == 0 and d.data.shape == (48, 24)
+    assert np.array_equal(d.outline, np.repeat(np.arange(4), 12))
+    # the turn of a polygon wrap grows corner by corner, and the chain is scaled
+    # to the laps from the laps it made at another size: most land in the range
+    assert np.mean((d.laps > 0.95) & (d.laps < 2.05)) >= 0.85
+    assert ((d.offset >= 0) & (d.offset <= 2)).all()
+    # the angles alone say how many laps (the approach links do not count)
+    np.testing.assert_allclose(grasp_state(d.data).laps, d.laps, atol=0.1)
+    again = chain_wraps(OUTLINES, 24, 0.5, **kw)
+    np.testing.assert_array_equal(again.data, d.data)
+    assert not np.array_equal(
+        chain_wraps(OUTLINES, 24, 0.5, **{**kw, "random_state": 4}).data, d.data
+    )
+
+
+def test_diameters_set_the_size_and_noise_the_spread():
+    kw = dict(n_wraps=20, laps=None, diameters=(6.0, 6.0), offset_links=(0.0, 0.0))
+    clean = chain_wraps([circle(1.0)], 32, **kw)
+    # a circle of diameter 6 unit links: 32 links cover 32 / (6 pi) laps
+    np.testing.assert_allclose(clean.laps, 32 / (6 * np.pi), rtol=0.01)
+    noisy = chain_wraps([circle(1.0)], 32, **kw, noise=0.05)
+    assert noisy.noise.max() <= 0.05 and np.std(noisy.data - clean.data) > 0.01
+
+
+def test_both_modes_and_progress():
+    calls = []
+    d = chain_wraps(
+        OUTLINES[:2],
+        16,
+        n_wraps=40,
+        mode="both",
+        progress=lambda done, total: calls.append((done, total)),
+    )
+    assert set(d.mode) == {"taut", "hug"}
+    assert calls[-1] == (80, 80) and [c[0] for c in calls] == sorted(c[0] for c in calls)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"outlines": []}, "outlines is empty"),
+        ({"n_links": 2}, "n_links"),
+        ({"link_length": 0.0}, "link_length"),
+        ({"laps": None}, "either laps or diameters"),
+        ({"diameters": (2.0, 3.0)}, "either laps or diameters"),
+        ({"laps": None, "diameters": (0.5, 3.0)}, "at least 1 link length"),
+        ({"laps": (2.0, 1.0)}, "low <= high"),
+        ({"offset_links": (0.0, 15.0)}, "offset_links must stay below"),
+        ({"noise": -0.1}, "noise"),
+        ({"mode": "loose"}, "mode"),
+        ({"random_state": 1.5}, "random_state"),
+        ({"outlines": [[(0, 0), (1, 1)]]}, "outlines[0]"),
+    ],
+)
+def test_bad_input(kwargs, message):
+    args = {"outlines": OUTLINES, "n_links": 16, **kwargs}
+    with pytest.raises(InputError, match=message.replace("[", r"\[").replace("]", r"\]")):
+        chain_wraps(args.pop("outlines"), args.pop("n_links"), **args)
