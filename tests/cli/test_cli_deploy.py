@@ -70,11 +70,12 @@ def test_wrap_piped_into_classify(args, label):
 
 def _wraps(shape, n_links, laps, offset_links, noise, seed):
     """Joint angles as `tentaclass wrap --shape S --links N --laps L --offset O` makes them."""
-    from tentaclass.cli.wrap import _length_for_laps, _outline
+    from tentaclass.cli.wrap import _outline
+    from tentaclass.wrapping import link_length_for_laps as _length_for_laps
     from tentaclass.wrapping import wrap
 
     outline = _outline(shape, None, None, None)
-    kw = {"start": 0.0, "direction": "ccw", "mode": "taut", "thickness": 0.0}
+    kw = {"start": 0.0, "direction": "ccw", "mode": "taut"}
     ell = _length_for_laps(outline, n_links, laps, offset=0.0, **kw)
     ell = _length_for_laps(outline, n_links, laps, offset=offset_links * ell, **kw)
     return wrap(outline, n_links, ell, offset=offset_links * ell, noise=noise, seed=seed, **kw)

@@ -269,3 +269,23 @@ def test_bad_input(kwargs, match):
     args = {"outline": shapes.square(4), "n_links": 16, "link_length": 1.0} | kwargs
     with pytest.raises(InputError, match=match):
         wrap(**args)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"thickness": 1e300}, "thickness .* larger than the object"),
+        ({"offset": 1e20}, "offset .* longer than the chain"),
+        ({"offset": 1e300}, "offset .* longer than the chain"),
+    ],
+)
+def test_inputs_beyond_physical_sense_name_the_limit(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        wrap(shapes.square(4), 40, 1.0, **kwargs)
+
+
+def test_link_count_has_a_documented_maximum():
+    from tentaclass.wrapping import MAX_LINKS
+
+    with pytest.raises(ValueError, match=f"at most {MAX_LINKS:,}"):
+        wrap_many(shapes.square(4), MAX_LINKS + 1, 1.0, [0.0])

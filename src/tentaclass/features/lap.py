@@ -128,8 +128,14 @@ def last_lap(
             if len(ring) < 3:  # a degenerate "lap" of coincident joints
                 ring = None
         if ring is None:
-            chain = _resample_open(points[i], n_out + 1)
-            turns = points_to_angles(chain, closed=False)
+            # the chain closed by the chord from its end back to its base: the cap
+            # it spans describes a partial wrap far better than the open arc alone
+            try:
+                chain = resample_closed(points[i], n_out + 1)
+                turns = points_to_angles(chain, closed=False)
+            except InputError:  # a chain folded flat on itself has no closed shape
+                chain = _resample_open(points[i], n_out + 1)
+                turns = points_to_angles(chain, closed=False)
             total = turns.sum()
             out[i] = turns * (2 * np.pi / total) if abs(total) > 1e-12 else 2 * np.pi / n_out
             continue

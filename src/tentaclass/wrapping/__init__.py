@@ -5,7 +5,7 @@ finely a link of a given length samples an outline (:func:`capture_error`,
 :func:`max_link_length`, :func:`closing_link_length`, :func:`link_length_for_laps`).
 """
 
-from ._api import wrap, wrap_many
+from ._api import MAX_LINKS, wrap, wrap_many
 from ._grasp import GraspState, grasp_state
 from ._result import Wrap, WrapBatch
 from ._sampling import (
@@ -16,6 +16,7 @@ from ._sampling import (
 )
 
 __all__ = [
+    "MAX_LINKS",
     "GraspState",
     "Wrap",
     "WrapBatch",

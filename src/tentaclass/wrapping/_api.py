@@ -6,6 +6,8 @@ from collections.abc import Sequence
 
 import numpy as np
 import shapely
+from scipy.spatial import ConvexHull
+from scipy.spatial.distance import pdist
 
 from .. import _dask
 from .._typing import ArrayLike, FloatArray
@@ -15,9 +17,12 @@ from ..shapes import as_outline
 from ._result import Wrap, WrapBatch
 from ._surface import Surface, build_surface, point_at_fraction
 
-__all__ = ["Wrap", "WrapBatch", "wrap", "wrap_many"]
+__all__ = ["MAX_LINKS", "Wrap", "WrapBatch", "wrap", "wrap_many"]
 
 _MODES = ("taut", "hug")
+
+#: Most links a chain may have: beyond it the arrays no longer fit a sensible memory.
+MAX_LINKS = 100_000
 #: A stretch of support within this fraction of a link of the outline counts as
 #: resting on the object: links between two joints on it are chords (they may
 #: cut the cap they span) and are not tested for crossing.
@@ -194,6 +199,8 @@ def wrap_many(
     ((100, 16), True)
     """
     n = check_positive_int(n_links, "n_links")
+    if n > MAX_LINKS:
+        raise InputError(f"n_links must be at most {MAX_LINKS:,}, got {n:,}")
     direction = _choice(direction, "direction", _DIRECTIONS)
     mode = _choice(mode, "mode", _MODES)
     noise = check_positive_float(noise, "noise", allow_zero=True)
@@ -222,6 +229,13 @@ def wrap_many(
     off = _as_batch(offset, "offset", b, 0.0, None)
     if np.any(ls <= 0):
         raise InputError(f"link_length must be > 0, got {link_length!r}")
+    reach = n * ls
+    if np.any(off > reach):
+        q = int(np.argmax(off > reach))
+        raise InputError(
+            f"offset {off[q]:g} is longer than the chain ({n} links of {ls[q]:g}, {reach[q]:g}):"
+            " the chain cannot reach the object (use offset <= n_links * link_length)"
+        )
     mirror = direction == "cw"
     out = {
         "joints": np.full((b, n + 1, 2), np.nan),
@@ -236,6 +250,12 @@ def wrap_many(
     on_start = np.zeros(b, bool)
     scales = np.zeros(b)
     for outline, rows in zip(shapes, groups, strict=True):
+        diameter = float(pdist(outline[ConvexHull(outline).vertices]).max())
+        if thickness > diameter:
+            raise InputError(
+                f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
+                f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
+            )
         surf = build_surface(
             outline, mode, thickness, float(n * ls[rows].max()), mirror, float(ls[rows][0])
         )
