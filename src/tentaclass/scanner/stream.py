@@ -36,7 +36,7 @@ from .descriptors import measure
 from .inspection import NominalSize, _check_options, inspect_masks
 from .model import ScannerModel
 from .records import Defect, Inspection, ScannedObject
-from .threshold import Threshold, check_options, choose_threshold
+from .threshold import Threshold, belt_levels, check_options, choose_threshold
 
 __all__ = ["LineScanner"]
 
@@ -85,8 +85,6 @@ class LineScanner:
         Rows consumed so far (held calibration rows included).
     n_emitted : int
         Objects emitted so far.
-    n_ignored : int
-        Objects ignored as smaller than ``min_area``.
     threshold_ : Threshold or None
         The rule in use, once chosen (it is reported by ``tentaclass scan``).
 
@@ -154,13 +152,13 @@ class LineScanner:
         self.nominal_size = nominal_size
         self.rows_seen = 0
         self.n_emitted = 0
-        self.n_ignored = 0
         self.threshold_: Threshold | None = None
         self._held: list[np.ndarray] = []  # calibration rows
         self._n_held = 0
         self._held_back: list[tuple] = []  # too-tall records of the newest row
         self._pools = seg.new_pools(self.width, 256, 4096)
         self._bg = np.zeros(self.width, dtype=np.float64)
+        self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
         self._done_rows = 0  # rows through the kernel
         self._partial = b""
         self._next_partial = b""
@@ -233,7 +231,7 @@ class LineScanner:
             if not finite.all():
                 i, j = np.argwhere(~finite)[0]
                 raise InputError(
-                    f"row {self.rows_seen + i}, column {j}: value {arr[i, j]!r} is not finite"
+                    f"row {self.rows_seen + i}, column {j}: value {arr[i, j].item()!r} is not finite"
                 )
         t = self.threshold_
         if t is not None and t.mode == "binary":
@@ -301,7 +299,7 @@ class LineScanner:
         if arr.dtype.type not in _KERNEL_DTYPES:
             arr = arr.astype(np.float64)
         self._held, self._n_held = [], 0
-        self._resolve(arr)
+        self._resolve(arr[: self.calibration_rows])  # the same rows for any chunking
         return arr
 
     def _resolve(self, sample: np.ndarray | None, binary: bool = False) -> None:
@@ -309,14 +307,16 @@ class LineScanner:
         if sample is None:
             if binary or self.threshold == "binary":
                 pol = "light" if self.polarity == "auto" else self.polarity
-                self.threshold_ = Threshold("binary", pol, 0.5, 0.5, (0.0, 0.0))
-                return
-            level = float(self.threshold)
-            self.threshold_ = Threshold("fixed", self.polarity, level, 0.0, (level, level))
-            return
-        self.threshold_ = choose_threshold(sample, self.threshold, self.polarity, self.contrast)
-        if self.threshold_.mode == "adaptive":
-            self._bg[:] = np.median(sample.astype(np.float64), axis=0)
+                t = Threshold("binary", pol, 0.5, 0.5, (0.0, 0.0))
+            else:
+                level = float(self.threshold)
+                t = Threshold("fixed", self.polarity, level, 0.0, (level, level))
+        else:
+            t = choose_threshold(sample, self.threshold, self.polarity, self.contrast)
+            if t.mode == "adaptive":
+                self._bg[:] = belt_levels(sample, t.polarity, t.contrast)
+        self.threshold_ = t
+        self._rule = (_MODES[t.mode], t.polarity == "dark", t.level, t.contrast, t.rate)
 
     def close(self) -> list[ScannedObject]:
         """End the stream: emit the objects still open at its last row.
@@ -339,7 +339,9 @@ class LineScanner:
         out = self._run(self._release()) if self._held else []
         out += self._run(None)
         self._closed = True
-        self._pools = seg.new_pools(self.width, 1, 1)
+        ignored = self.n_ignored
+        self._pools = seg.new_pools(self.width, 1, 1)  # free the pools
+        self._pools["st"][seg.S_IGNORED] = ignored
         return out
 
     def scan(self, chunks: Iterable[Any]) -> Iterator[ScannedObject]:
@@ -358,6 +360,11 @@ class LineScanner:
         yield from self.close()
 
     @property
+    def n_ignored(self) -> int:
+        """Objects ignored as smaller than ``min_area``."""
+        return int(self._pools["st"][seg.S_IGNORED])
+
+    @property
     def pending_rows(self) -> int:
         """Rows spanned by the objects in flight (plus rows held for calibration)."""
         labs = self._pools["labs"]
@@ -369,42 +376,37 @@ class LineScanner:
 
     def _run(self, arr: np.ndarray | None) -> list[ScannedObject]:
         """Push rows (None: the end of the stream) through the kernel; build the records."""
-        t = self.threshold_
         p = self._pools
         final = arr is None
         if final:
             arr = np.zeros((0, self.width), dtype=np.uint8)
-        mode = _MODES[t.mode] if t is not None else 0
-        dark = t is not None and t.polarity == "dark"
+        mode, dark, level, contrast, rate = self._rule
         if mode == 0 and dark:
             arr = (arr == 0).view(np.uint8)
             dark = False
-        level = t.level if t is not None else 0.5
-        contrast = t.contrast if t is not None else 0.5
-        rate = t.rate if t is not None else 0.0
         found: list[tuple] = []
-        start = 0
+        start, n = 0, arr.shape[0]
         while True:
             done = seg.scan_rows(
-                arr[start:], self._done_rows, mode, dark, level, contrast, rate, self._bg,
-                self.max_height, self.min_area, final,
+                arr[start:] if start else arr, self._done_rows, mode, dark, level, contrast,
+                rate, self._bg, self.max_height, self.min_area, final,
                 p["st"], p["prev"], p["cur"], p["labs"], p["runs"], p["out"], p["out_runs"],
                 p["done"],
             )  # fmt: skip
             self._done_rows += done
             start += done
             st = p["st"]
-            n_out = int(st[seg.S_NOUT])
-            if n_out:
-                found += self._collect(n_out)
+            if st[seg.S_NOUT]:
+                found += self._collect(int(st[seg.S_NOUT]))
                 st[seg.S_NOUT] = 0
                 st[seg.S_NOUT_RUNS] = 0
-            elif not final and start < arr.shape[0]:
+            elif not final and start < n:
                 seg.grow(p, self.width)
                 p = self._pools
-            if final or start >= arr.shape[0]:
+            if final or start >= n:
                 break
-        self.n_ignored = int(p["st"][seg.S_IGNORED])
+        if not found and not self._held_back:
+            return []
         return self._records(found, final)
 
     def _collect(self, n_out: int) -> list[tuple]:

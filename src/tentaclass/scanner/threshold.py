@@ -28,7 +28,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["POLARITIES", "THRESHOLD_MODES", "Threshold", "choose_threshold"]
+__all__ = ["POLARITIES", "THRESHOLD_MODES", "Threshold", "belt_levels", "choose_threshold"]
 
 POLARITIES: tuple[str, ...] = ("auto", "dark", "light")
 """Polarity options: chosen from the data, dark objects, light objects."""
@@ -160,8 +160,7 @@ def choose_threshold(
         pol = "light" if polarity == "auto" else polarity
         return Threshold("binary", pol, 0.5, 0.5, (0.0, 0.0), rate)
     xf = x.astype(np.float64)
-    bg = np.median(xf, axis=0)
-    dev = xf - bg
+    dev = xf - np.median(xf, axis=0)
     sigma = 1.4826 * float(np.median(np.abs(dev)))
     floor = max(6.0 * sigma, 1.0 if is_int else 0.0)
     dark_reach = float(np.max(-dev, initial=0.0))
@@ -169,13 +168,14 @@ def choose_threshold(
     if polarity == "auto":
         polarity = "light" if light_reach > dark_reach else "dark"
     reach = light_reach if polarity == "light" else dark_reach
-    glob = float(np.median(bg))
     if contrast is None:
         if reach > floor:
             contrast = max(floor, 0.5 * reach)
         else:
-            span = float(np.iinfo(x.dtype).max) if is_int else max(abs(glob), 1.0)
+            span = float(np.iinfo(x.dtype).max) if is_int else max(abs(float(np.median(xf))), 1.0)
             contrast = max(floor, 0.1 * span)
+    bg = belt_levels(xf, polarity, float(contrast))
+    glob = float(np.median(bg))
     sign = -1.0 if polarity == "dark" else 1.0
     background = (float(bg.min()), float(bg.max()))
     if not isinstance(threshold, str):
@@ -185,3 +185,29 @@ def choose_threshold(
     if threshold == "adaptive" or (threshold == "auto" and uneven):
         return Threshold("adaptive", polarity, glob, float(contrast), background, rate)
     return Threshold("fixed", polarity, glob + sign * contrast, float(contrast), background, rate)
+
+
+def belt_levels(rows: np.ndarray, polarity: str, contrast: float) -> np.ndarray:
+    """Belt level of each column: the mean of its pixels that are not object.
+
+    A pixel is object when it lies beyond its column's 80th percentile (dark
+    objects; 20th for light ones) by more than ``contrast``, so that objects
+    may cover most of a column; a column with no belt pixel gets the median
+    level of the others.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rows = np.array([[10.0, 20.0], [10.0, 200.0], [12.0, 22.0]])
+    >>> belt_levels(rows, "light", 50.0).tolist()
+    [10.666666666666666, 21.0]
+    """
+    x = np.asarray(rows, dtype=np.float64)
+    dev = x - np.percentile(x, 20.0 if polarity == "light" else 80.0, axis=0)
+    belt = (dev <= contrast) if polarity == "light" else (dev >= -contrast)
+    count = belt.sum(axis=0)
+    total = np.where(belt, x, 0.0).sum(axis=0)
+    levels = total / np.maximum(count, 1)
+    if not count.all():
+        levels[count == 0] = np.median(levels[count > 0]) if count.any() else np.median(x)
+    return levels
