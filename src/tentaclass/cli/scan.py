@@ -73,6 +73,14 @@ def _emit(objects: list, stats: Counter, out: list | None) -> None:
             out.append(obj)
 
 
+def _chunks(source: Any, keep: list | None) -> Any:
+    """The chunks of ``source``, also kept (as arrays) in ``keep`` for the figure."""
+    for chunk in source:
+        if keep is not None:
+            keep.append(chunk if isinstance(chunk, np.ndarray) else np.frombuffer(chunk, np.uint8))
+        yield chunk
+
+
 @click.command()
 @click.argument("file", required=False, type=click.Path(dir_okay=False, allow_dash=True))
 @click.option(
@@ -253,25 +261,27 @@ def scan(
             source = read_rows(fh, fmt=fmt, width=width, chunk_rows=chunk_rows, dtype=dtype)
             belt_width = width
         scanner = None
-        for chunk in source:
-            if scanner is None:
-                w = belt_width or (chunk.shape[1] if isinstance(chunk, np.ndarray) else None)
-                scanner = LineScanner(
-                    w,
-                    model,
-                    max_height=max_height,
-                    min_area=min_area,
-                    threshold=threshold,
-                    polarity=polarity,
-                    contrast=contrast,
-                    nominal_size=nominal_size,
-                    size_tolerance=size_tolerance,
-                )
-            if belt_rows is not None:
-                belt_rows.append(
-                    chunk if isinstance(chunk, np.ndarray) else np.frombuffer(chunk, np.uint8)
-                )
-            _emit(scanner.feed(chunk), stats, kept)
+        try:
+            for chunk in _chunks(source, belt_rows):
+                if scanner is None:
+                    w = belt_width or (chunk.shape[1] if isinstance(chunk, np.ndarray) else None)
+                    scanner = LineScanner(
+                        w,
+                        model,
+                        max_height=max_height,
+                        min_area=min_area,
+                        threshold=threshold,
+                        polarity=polarity,
+                        contrast=contrast,
+                        nominal_size=nominal_size,
+                        size_tolerance=size_tolerance,
+                    )
+                _emit(scanner.feed(chunk), stats, kept)
+        except (TentaclassError, ValueError, OSError):
+            # report what the complete rows before the error hold, then the error
+            if scanner is not None:
+                _emit(scanner.flush(), stats, kept)
+            raise
         if scanner is None:
             raise TentaclassError("empty stream: no rows found")
         _emit(scanner.close(), stats, kept)

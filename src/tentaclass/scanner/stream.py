@@ -318,6 +318,26 @@ class LineScanner:
         self.threshold_ = t
         self._rule = (_MODES[t.mode], t.polarity == "dark", t.level, t.contrast, t.rate)
 
+    def flush(self) -> list[ScannedObject]:
+        """Process the rows held for calibration now; return the objects they complete.
+
+        The threshold is then chosen from fewer rows than ``calibration_rows``.
+        Useful when a stream stops early (e.g. on bad input) to report what
+        was complete before.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> grey = np.full((6, 5), 200, dtype=np.uint8)
+        >>> grey[1:4, 1:4] = 10
+        >>> scanner = LineScanner(5)
+        >>> scanner.feed(grey), [o.label for o in scanner.flush()]
+        ([], ['square'])
+        """
+        if self._closed or not self._held:
+            return []
+        return self._run(self._release())
+
     def close(self) -> list[ScannedObject]:
         """End the stream: emit the objects still open at its last row.
 
