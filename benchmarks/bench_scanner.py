@@ -74,7 +74,8 @@ def make_test_belt(
         crop = crops[int(rng.integers(len(crops)))]
         h, w = crop.shape
         lane = int(np.argmin(free + rng.integers(0, 8, lanes)))
-        top = int(free[lane] + rng.integers(2, 2 + max(4, n_lines * lanes // n_objects - h)))
+        spacing = min(n_lines * lanes // n_objects, n_lines - 2 * h) - h
+        top = int(free[lane] + rng.integers(2, 2 + max(4, spacing)))
         if top + h >= n_lines:
             continue
         left = lane * lane_w + 1
