@@ -29,7 +29,7 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
-from .descriptors import Geometry
+from .descriptors import Geometry, pixel_hull
 from .records import Defect
 
 __all__ = ["DefectSettings", "expected_outline", "find_defects"]
@@ -155,12 +155,7 @@ def _enclosing_triangle(hull: shapely.Polygon) -> shapely.Polygon:
 
 def _centre_hull(core: np.ndarray) -> shapely.Geometry:
     """Hull of the pixel centres of the object's core (burrs opened away)."""
-    rows = np.nonzero(core.any(axis=1))[0]
-    sub = core[rows]
-    first = sub.argmax(axis=1)
-    last = core.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
-    pts = np.stack([np.concatenate([first, last]), np.concatenate([rows, rows])], axis=1)
-    return shapely.convex_hull(shapely.multipoints(pts.astype(float)))
+    return pixel_hull(core, corners=False)
 
 
 def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:

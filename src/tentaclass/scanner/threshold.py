@@ -6,12 +6,13 @@ darker (``polarity="dark"``: dark objects on a light belt, or a backlit
 belt) or lighter (``"light"``). :func:`choose_threshold` picks what is not
 given from the first rows of a stream:
 
-- the belt level of each column is the median of those rows, the noise the
-  scaled median absolute deviation from it;
+- the noise is the scaled median absolute difference of neighbouring pixels;
 - the polarity is the side whose deviations reach farthest (ties: ``dark``);
 - the contrast is half the way from the belt to the farthest deviation on
   that side, at least six times the noise (and at least one grey level for
   integer data); with no deviation beyond that, a tenth of the data's range;
+- the belt level of each column is the mean of its pixels that are not
+  object (:func:`belt_levels`);
 - the threshold is ``"fixed"`` (one level for the whole line) when the belt
   levels of the columns differ by less than half the contrast, else
   ``"adaptive"``: each column keeps a running estimate of its belt level
@@ -161,7 +162,9 @@ def choose_threshold(
         return Threshold("binary", pol, 0.5, 0.5, (0.0, 0.0), rate)
     xf = x.astype(np.float64)
     dev = xf - np.median(xf, axis=0)
-    sigma = 1.4826 * float(np.median(np.abs(dev)))
+    # noise from neighbouring pixels of a row: object edges are a minority there
+    step = np.abs(np.diff(xf, axis=1)) if xf.shape[1] > 1 else np.abs(dev)
+    sigma = 1.4826 / np.sqrt(2.0) * float(np.median(step))
     floor = max(6.0 * sigma, 1.0 if is_int else 0.0)
     dark_reach = float(np.max(-dev, initial=0.0))
     light_reach = float(np.max(dev, initial=0.0))
