@@ -22,9 +22,7 @@ and deep enough (see :class:`DefectSettings`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
-from itertools import combinations
-
+import numba as nb
 import numpy as np
 import shapely
 from scipy import ndimage
@@ -99,9 +97,47 @@ class DefectSettings:
         return min(self.min_depth, max(1.0, 0.2 * object_width))
 
 
-@lru_cache(maxsize=64)
-def _triples(m: int) -> np.ndarray:
-    return np.array(list(combinations(range(m), 3)), dtype=np.intp).reshape(-1, 3)
+@nb.njit(cache=True, nogil=True)
+def _meet(normal: np.ndarray, c: np.ndarray, i: int, j: int) -> tuple[float, float]:
+    """Where the lines ``normal[i] . p = c[i]`` and ``normal[j] . p = c[j]`` cross."""
+    det = normal[i, 0] * normal[j, 1] - normal[i, 1] * normal[j, 0]
+    x = (c[i] * normal[j, 1] - c[j] * normal[i, 1]) / det
+    y = (normal[i, 0] * c[j] - normal[j, 0] * c[i]) / det
+    return x, y
+
+
+@nb.njit(cache=True, nogil=True)
+def _best_triangle(normal: np.ndarray, c: np.ndarray, theta: np.ndarray) -> tuple:
+    """Smallest triangle on three of the lines whose normals span less than pi each.
+
+    Triples are tried in lexicographic order and the first smallest kept;
+    returns its index (-1 if no triple qualifies) and vertices.
+    """
+    m = c.shape[0]
+    best = np.inf
+    k = -1
+    n = 0
+    tri = np.zeros((3, 2))
+    for i in range(m):
+        for j in range(i + 1, m):
+            for q in range(j + 1, m):
+                if not (
+                    theta[j] - theta[i] < np.pi - 1e-6
+                    and theta[q] - theta[j] < np.pi - 1e-6
+                    and 2 * np.pi - (theta[q] - theta[i]) < np.pi - 1e-6
+                ):
+                    continue
+                ax, ay = _meet(normal, c, i, j)
+                bx, by = _meet(normal, c, j, q)
+                vx, vy = _meet(normal, c, q, i)
+                area = 0.5 * np.abs((bx - ax) * (vy - ay) - (by - ay) * (vx - ax))
+                if area < best:
+                    best, k = area, n
+                    tri[0, 0], tri[0, 1] = ax, ay
+                    tri[1, 0], tri[1, 1] = bx, by
+                    tri[2, 0], tri[2, 1] = vx, vy
+                n += 1
+    return k, tri
 
 
 def _enclosing_triangle(hull: shapely.Polygon) -> shapely.Polygon:
@@ -128,29 +164,8 @@ def _enclosing_triangle(hull: shapely.Polygon) -> shapely.Polygon:
     # The sides lie on long edges: search the 12 longest, in ring order.
     top = np.sort(np.argsort(-length, kind="stable")[:12])
     normal, c, theta = normal[top], c[top], theta[top]
-    m = len(top)
-    t = _triples(m)
-    th = theta[t]
-    gaps = np.stack(
-        [th[:, 1] - th[:, 0], th[:, 2] - th[:, 1], 2 * np.pi - (th[:, 2] - th[:, 0])], axis=1
-    )
-    t = t[np.all(gaps < np.pi - 1e-6, axis=1)]
-    if len(t) == 0:
-        return hull
-
-    def meet(i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        ni, nj = normal[i], normal[j]
-        det = ni[:, 0] * nj[:, 1] - ni[:, 1] * nj[:, 0]
-        x = (c[i] * nj[:, 1] - c[j] * ni[:, 1]) / det
-        y = (ni[:, 0] * c[j] - nj[:, 0] * c[i]) / det
-        return np.stack([x, y], axis=1)
-
-    a, b, v = meet(t[:, 0], t[:, 1]), meet(t[:, 1], t[:, 2]), meet(t[:, 2], t[:, 0])
-    area = 0.5 * np.abs(
-        (b[:, 0] - a[:, 0]) * (v[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (v[:, 0] - a[:, 0])
-    )
-    k = int(np.argmin(area))
-    return shapely.Polygon([a[k], b[k], v[k]])
+    k, tri = _best_triangle(normal, c, theta)
+    return shapely.Polygon(tri) if k >= 0 else hull
 
 
 def _centre_hull(core: np.ndarray) -> shapely.Geometry:
