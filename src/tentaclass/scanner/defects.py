@@ -230,10 +230,24 @@ def _signed_distance(
     p, d, length = xy[:-1][keep], d[keep], length[keep]
     nx, ny = d[:, 1] / length, -d[:, 0] / length  # outward normals of a CCW ring
     c = nx * p[:, 0] + ny * p[:, 1]
-    # c - n.(x, y) per edge, separable in rows and columns; minimum over edges
-    across = c[:, None] - nx[:, None] * cols  # (n_edges, n_cols)
-    down = ny[:, None] * rows[:, 0]  # (n_edges, n_rows)
-    return (across[:, None, :] - down[:, :, None]).min(axis=0)
+    return _edge_distance(c, nx, ny, rows[:, 0], cols[0])
+
+
+@nb.njit(cache=True, nogil=True)
+def _edge_distance(
+    c: np.ndarray, nx: np.ndarray, ny: np.ndarray, rows: np.ndarray, cols: np.ndarray
+) -> np.ndarray:
+    """``min over edges of (c - nx * col) - ny * row`` at every canvas pixel."""
+    out = np.empty((rows.shape[0], cols.shape[0]))
+    for i in range(rows.shape[0]):
+        for j in range(cols.shape[0]):
+            best = np.inf
+            for e in range(c.shape[0]):
+                v = (c[e] - nx[e] * cols[j]) - ny[e] * rows[i]
+                if v < best:
+                    best = v
+            out[i, j] = best
+    return out
 
 
 def _components(region: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
