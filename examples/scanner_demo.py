@@ -17,8 +17,8 @@ matplotlib.use("Agg")
 from matplotlib.figure import Figure
 
 from tentaclass.datasets import thesis_scanner
+from tentaclass.plot.scanner import plot_inspection, save_belt_figure
 from tentaclass.scanner import LineScanner, inspect
-from tentaclass.scanner.plotting import plot_inspection, save_belt_figure
 from tentaclass.scanner.simulate import make_belt, make_objects
 
 d = thesis_scanner()

@@ -1,8 +1,17 @@
 """Hypothesis strategies shared by the tests."""
 
+import os
+
 import numpy as np
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
+
+FUZZ_FACTOR = 25
+
+
+def examples(n):
+    """``n`` examples in the deterministic suite, many more under ``make fuzz``."""
+    return n * FUZZ_FACTOR if os.environ.get("HYPOTHESIS_PROFILE") == "fuzz" else n
 
 
 @st.composite

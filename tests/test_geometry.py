@@ -4,6 +4,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+from strategies import examples
 from tentaclass import angles_to_points, points_to_angles, resample_closed
 from tentaclass.errors import InputError, ShapeError
 
@@ -49,7 +50,7 @@ def test_repeated_closing_point_is_dropped():
     np.testing.assert_allclose(points_to_angles(closed), points_to_angles(L_SHAPE))
 
 
-@settings(deadline=None, max_examples=60)
+@settings(deadline=None, max_examples=examples(60))
 @given(
     hnp.arrays(
         np.float64,
@@ -62,7 +63,7 @@ def test_open_chain_round_trip(q):
     np.testing.assert_allclose(points_to_angles(p, closed=False), q, atol=1e-9)
 
 
-@settings(deadline=None, max_examples=60)
+@settings(deadline=None, max_examples=examples(60))
 @given(st.integers(3, 40), st.floats(0.01, 100.0), st.floats(-np.pi, np.pi), st.integers(0, 39))
 def test_closed_round_trip_of_regular_polygon(n, length, heading, shift):
     q = np.roll(np.full(n, 2 * np.pi / n), shift % n)

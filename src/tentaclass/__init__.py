@@ -11,7 +11,8 @@ The data flow is arrays -> descriptors -> classifiers -> reports:
   wrapped around them measures; :func:`grasp_state` reads laps and offset back;
 - :mod:`tentaclass.manipulator`: kinematics and dynamics of the planar n-link chain;
 - :mod:`tentaclass.scanner`: the linear object scanner (classes and defects on a belt);
-- :mod:`tentaclass.plotting`: figures (matplotlib, imported lazily).
+- :mod:`tentaclass.io`: model files (arrays + JSON, never pickle);
+- :mod:`tentaclass.plot`: every figure (matplotlib, imported lazily).
 """
 
 from . import shapes
@@ -32,12 +33,20 @@ from .features import (
     turning_function,
 )
 from .geometry import angles_to_points, points_to_angles, resample_closed
-from .grasp import GraspState, grasp_state
+from .io import load_model, save_model
 from .manipulator import ChainKinematics, PlanarChain, Trajectory
-from .model_io import load_model, save_model
-from .sampling import capture_error, closing_link_length, max_link_length
 from .scanner import Defect, Inspection, LineScanner, ScannedObject, ScannerModel
-from .wrapping import Wrap, WrapBatch, wrap, wrap_many
+from .wrapping import (
+    GraspState,
+    Wrap,
+    WrapBatch,
+    capture_error,
+    closing_link_length,
+    grasp_state,
+    max_link_length,
+    wrap,
+    wrap_many,
+)
 
 __version__ = "0.1.0"
 

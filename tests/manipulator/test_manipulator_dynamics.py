@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from manipulator_refs import double_pendulum, random_chain
 
+from strategies import examples
 from tentaclass.manipulator import PlanarChain
 
 
@@ -56,7 +57,7 @@ def test_double_pendulum_closed_form(seed):
     )
 
 
-@settings(deadline=None, max_examples=60)
+@settings(deadline=None, max_examples=examples(60))
 @given(chains_and_states())
 def test_mass_matrix_is_symmetric_positive_definite(case):
     chain, q, _, _ = case
@@ -72,7 +73,7 @@ def test_mass_matrix_is_symmetric_positive_definite(case):
     np.testing.assert_allclose(mass, expected, rtol=1e-10, atol=1e-10 * np.max(expected))
 
 
-@settings(deadline=None, max_examples=60)
+@settings(deadline=None, max_examples=examples(60))
 @given(chains_and_states())
 def test_inverse_dynamics_is_h_qdd_plus_h_plus_g(case):
     chain, q, qd, qdd = case
@@ -88,7 +89,7 @@ def test_inverse_dynamics_is_h_qdd_plus_h_plus_g(case):
     )
 
 
-@settings(deadline=None, max_examples=40)
+@settings(deadline=None, max_examples=examples(40))
 @given(chains_and_states())
 def test_kinetic_energy_is_quadratic_form(case):
     chain, q, qd, _ = case

@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from manipulator_refs import random_chain
 
+from strategies import examples
 from tentaclass.geometry import angles_to_points
 from tentaclass.manipulator import ChainKinematics, PlanarChain
 
@@ -111,7 +112,7 @@ def test_com_jacobians_match_finite_differences(n):
     np.testing.assert_array_equal(jc[..., 2, :], np.tril(np.ones((n, n))))
 
 
-@settings(deadline=None, max_examples=40)
+@settings(deadline=None, max_examples=examples(40))
 @given(
     n=st.integers(1, 6),
     seed=st.integers(0, 2**32 - 1),

@@ -3,6 +3,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass.scanner import default_model, inspect, inspect_many
 from tentaclass.scanner.simulate import draw_shape, make_belt, make_objects
 
@@ -39,7 +40,7 @@ def test_belt_boxes_hold_the_objects():
         assert belt.image[r0:r1, c0:c1].any()
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=examples(25), deadline=None)
 @given(
     label=st.sampled_from(["square", "circle", "triangle", "rectangle"]),
     angle=st.floats(0, 2 * np.pi),

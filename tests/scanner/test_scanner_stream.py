@@ -3,6 +3,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass.errors import InputError
 from tentaclass.scanner import LineScanner
 from tentaclass.scanner.simulate import make_belt
@@ -166,7 +167,7 @@ def test_scan_iterator_helper():
     assert [o.label for o in LineScanner(5).scan(iter(img))] == ["square"]
 
 
-@settings(max_examples=15, deadline=None)
+@settings(max_examples=examples(15), deadline=None)
 @given(seed=st.integers(0, 10_000), cuts=st.lists(st.integers(1, 40), min_size=1, max_size=8))
 def test_chunking_invariance_property(seed, cuts):
     belt = make_belt(4, width=64, lanes=2, gap=(1, 3), seed=seed, radius_range=(4.0, 12.0))
@@ -183,7 +184,7 @@ def test_chunking_invariance_property(seed, cuts):
     assert len(ref) == 4
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=examples(100), deadline=None)
 @given(
     grid=st.lists(st.lists(st.booleans(), min_size=6, max_size=6), min_size=1, max_size=24),
     max_height=st.integers(1, 6),

@@ -11,7 +11,7 @@ from sklearn.pipeline import Pipeline
 from .._validation import as_angle_array
 from ..classifiers import TentacleClassifier
 from ..datasets import reference_tentacle
-from ..model_io import load_model
+from ..io import load_model
 from ..report import classification_table, table_to_json
 from .options import AngleList, read_angle_file
 

@@ -37,9 +37,8 @@ def write_wrap_figures(out: Path) -> list[Path]:
     from matplotlib.figure import Figure
 
     from .. import shapes
-    from ..plotting_wrap import plot_capture_error, plot_grasp_spectra, plot_wrap
-    from ..sampling import capture_error
-    from ..wrapping import wrap
+    from ..plot.wrapping import plot_capture_error, plot_grasp_spectra, plot_wrap
+    from ..wrapping import capture_error, wrap
 
     paths = []
     sq = shapes.square(4.0)
@@ -128,7 +127,7 @@ def demo(out: Path, noise: float, seed: int, no_figures: bool) -> None:
         for label, p, truth in zip(model.predict(X), proba.max(axis=1), y, strict=True):
             console.print(f"  {truth:<10} -> {label.upper():<10} (p = {p:.3f})")
     if not no_figures:
-        from ..plotting import plot_thesis_panel
+        from ..plot.features import plot_thesis_panel
 
         out.mkdir(parents=True, exist_ok=True)
         X, y = thesis_tentacle(16, return_X_y=True)

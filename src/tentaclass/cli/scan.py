@@ -295,7 +295,7 @@ def scan(
         if opened is not None:
             opened.close()
     if annotate is not None and belt_rows is not None and kept is not None:
-        from ..scanner.plotting import save_belt_figure
+        from ..plot.scanner import save_belt_figure
 
         image = (
             np.concatenate(belt_rows)

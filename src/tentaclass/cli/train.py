@@ -11,7 +11,7 @@ import numpy as np
 
 from .._validation import as_angle_array
 from ..classifiers import RBFNetworkClassifier, TentacleClassifier
-from ..model_io import save_model
+from ..io import save_model
 from .options import parse_angle
 
 

@@ -57,7 +57,7 @@ def _length_for_laps(outline, links, laps, **kw) -> float:
     ``(links - approach) / laps`` links close one lap (``closing_link_length``);
     the approach takes ``ceil(offset / l)`` links, so the length is found twice.
     """
-    from ..sampling import closing_link_length
+    from ..wrapping import closing_link_length
 
     args = {k: kw[k] for k in ("start", "direction", "mode")}
     ln = closing_link_length(outline, max(2, round(links / laps)), **args)[0]
@@ -108,7 +108,7 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
     The angles are printed space-separated, as `tentaclass classify` reads
     them, followed by the grasp state read back from the angles alone.
     """
-    from ..grasp import grasp_state
+    from ..wrapping import grasp_state
     from ..wrapping import wrap as do_wrap
 
     try:
@@ -135,7 +135,7 @@ def wrap(shape, size, vertices, mask, links, link_length, laps, start, direction
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
 
-            from ..plotting_wrap import plot_wrap
+            from ..plot.wrapping import plot_wrap
 
             fig, ax = plt.subplots(figsize=(5, 5))
             plot_wrap(w, outline, ax=ax)

@@ -8,7 +8,7 @@
   :class:`ScannedObject` records as soon as each object has passed;
 - :mod:`~tentaclass.scanner.simulate`: seeded generator of objects and belts;
 - :mod:`~tentaclass.scanner.io`: reading rows from text, PBM/PNG and raw bytes;
-- :mod:`~tentaclass.scanner.plotting`: figures (matplotlib imported lazily).
+- figures are in :mod:`tentaclass.plot.scanner`.
 """
 
 from .defects import DefectSettings

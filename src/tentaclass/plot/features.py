@@ -10,10 +10,10 @@ from typing import Any
 
 import numpy as np
 
-from ._typing import ArrayLike
-from ._validation import as_angle_array
-from .features import fourier_features, periodic_signal, turning_function
-from .geometry import angles_to_points
+from .._typing import ArrayLike
+from .._validation import as_angle_array
+from ..features import fourier_features, periodic_signal, turning_function
+from ..geometry import angles_to_points
 
 __all__ = [
     "plot_features",

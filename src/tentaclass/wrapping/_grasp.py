@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._typing import ArrayLike, FloatArray, IntArray
-from ._validation import as_angle_array, check_positive_float
-from .errors import InputError
+from .._typing import ArrayLike, FloatArray, IntArray
+from .._validation import as_angle_array, check_positive_float
+from ..errors import InputError
 
 __all__ = ["GraspState", "grasp_state"]
 

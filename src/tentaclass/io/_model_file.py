@@ -38,9 +38,9 @@ import numpy as np
 from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted
 
-from .classifiers import PNNClassifier, RBFNetworkClassifier, TentacleClassifier
-from .errors import InputError, ModelFileError
-from .features import FourierFeatures
+from ..classifiers import PNNClassifier, RBFNetworkClassifier, TentacleClassifier
+from ..errors import InputError, ModelFileError
+from ..features import FourierFeatures
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "load_model", "save_model"]
 
@@ -196,7 +196,7 @@ def save_model(estimator: object, path: str | os.PathLike) -> Path:
     >>> loaded.predict(X).tolist()
     ['square', 'circle', 'triangle', 'rectangle']
     """
-    from . import __version__
+    from .. import __version__
 
     meta: dict[str, Any] = {
         "format": FORMAT_NAME,

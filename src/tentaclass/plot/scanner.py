@@ -15,10 +15,10 @@ import numpy as np
 
 from .._validation import as_binary_grid
 from ..errors import InputError
-from .defects import expected_outline
-from .descriptors import measure
-from .model import ScannerModel, crop
-from .records import Inspection, ScannedObject
+from ..scanner.defects import expected_outline
+from ..scanner.descriptors import measure
+from ..scanner.model import ScannerModel, crop
+from ..scanner.records import Inspection, ScannedObject
 
 __all__ = ["DEFECT_COLORS", "plot_belt", "plot_inspection", "save_belt_figure"]
 
@@ -83,7 +83,7 @@ def plot_inspection(
     """
     from matplotlib.patches import Rectangle
 
-    from .inspection import inspect
+    from ..scanner.inspection import inspect
 
     arr = as_binary_grid(grid, "grid")
     if arr.ndim != 2:

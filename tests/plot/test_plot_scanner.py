@@ -7,13 +7,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from tentaclass.datasets import thesis_scanner  # noqa: E402
-from tentaclass.scanner import LineScanner, inspect  # noqa: E402
-from tentaclass.scanner.plotting import (  # noqa: E402
+from tentaclass.plot.scanner import (  # noqa: E402
     DEFECT_COLORS,
     plot_belt,
     plot_inspection,
     save_belt_figure,
 )
+from tentaclass.scanner import LineScanner, inspect  # noqa: E402
 from tentaclass.scanner.simulate import draw_shape, make_belt  # noqa: E402
 
 

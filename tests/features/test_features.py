@@ -4,7 +4,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
-from strategies import closed_laps
+from strategies import closed_laps, examples
 from tentaclass import angles_to_points, points_to_angles
 from tentaclass.features import (
     AngleSpectrum,
@@ -17,7 +17,7 @@ from tentaclass.features import (
 )
 
 
-@settings(deadline=None, max_examples=80)
+@settings(deadline=None, max_examples=examples(80))
 @given(closed_laps(), st.integers(0, 1000))
 def test_features_invariant_to_start_point(q, shift):
     np.testing.assert_allclose(
@@ -25,14 +25,14 @@ def test_features_invariant_to_start_point(q, shift):
     )
 
 
-@settings(deadline=None, max_examples=80)
+@settings(deadline=None, max_examples=examples(80))
 @given(closed_laps(), st.integers(0, 1000))
 def test_features_invariant_to_direction(q, shift):
     other_way = -np.roll(q, shift)[::-1]
     np.testing.assert_allclose(fourier_features(other_way), fourier_features(q), atol=1e-9)
 
 
-@settings(deadline=None, max_examples=60)
+@settings(deadline=None, max_examples=examples(60))
 @given(closed_laps(max_n=40), st.floats(1e-3, 1e3), st.floats(-np.pi, np.pi))
 def test_features_independent_of_link_length_and_rotation(q, length, rotation):
     # the chain drawn with other link lengths and rotated measures the same angles
@@ -41,7 +41,7 @@ def test_features_independent_of_link_length_and_rotation(q, length, rotation):
     np.testing.assert_allclose(fourier_features(q_measured), fourier_features(q), atol=1e-7)
 
 
-@settings(deadline=None, max_examples=60)
+@settings(deadline=None, max_examples=examples(60))
 @given(closed_laps(max_n=40), st.floats(-np.pi, np.pi))
 def test_turning_function_shifts_by_a_constant_under_rotation(q, rotation):
     p = angles_to_points(q)
@@ -171,7 +171,7 @@ def test_angle_spectrum_known_values():
     assert AngleSpectrum(n_coeffs=1).fit_transform(twice)[0, 0] == pytest.approx(np.pi / 4)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=examples(40), deadline=None)
 @given(st.integers(0, 30), st.integers(4, 40))
 def test_angle_spectrum_ignores_where_the_chain_starts(shift, n):
     q = np.random.default_rng(n).normal(size=(2, n))

@@ -3,11 +3,10 @@ import time
 import numpy as np
 import pytest
 
-from _wrap_helpers import MPEG7, needs_mpeg7
 from tentaclass import shapes
 from tentaclass.errors import InputError
-from tentaclass.grasp import grasp_state
-from tentaclass.wrapping import wrap
+from tentaclass.wrapping import grasp_state, wrap
+from wrap_checks import MPEG7, needs_mpeg7
 
 THESIS = {
     "square": np.tile([0, 0, 0, np.pi / 2], 4),

@@ -3,6 +3,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass import shapes
 from tentaclass.datasets._wraps import (
     _bisect_lengths,
@@ -29,7 +30,7 @@ def star_outlines(draw):
     return outline, np.concatenate([points, outline])
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60), deadline=None)
 @given(star_outlines())
 def test_distance_to_outline_matches_shapely(case):
     outline, points = case

@@ -4,12 +4,12 @@ import shapely
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from _wrap_helpers import crossing_links
+from strategies import examples
 from tentaclass import shapes
 from tentaclass.errors import InputError
 from tentaclass.geometry import angles_to_points, points_to_angles
-from tentaclass.sampling import closing_link_length
-from tentaclass.wrapping import WrapBatch, wrap, wrap_many
+from tentaclass.wrapping import WrapBatch, closing_link_length, wrap, wrap_many
+from wrap_checks import crossing_links
 
 PI = np.pi
 
@@ -100,7 +100,7 @@ def check_geometry(outline, w, ln):
     assert not (crossing_links(outline, j) & air).any()
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=examples(60), deadline=None)
 @given(
     name=st.sampled_from(sorted(OUTLINES)),
     n=st.integers(1, 80),

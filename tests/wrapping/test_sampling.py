@@ -1,11 +1,10 @@
 import numpy as np
 import pytest
 
-from _wrap_helpers import MPEG7, needs_mpeg7
 from tentaclass import shapes
 from tentaclass.errors import InputError
-from tentaclass.sampling import capture_error, closing_link_length, max_link_length
-from tentaclass.wrapping import wrap
+from tentaclass.wrapping import capture_error, closing_link_length, max_link_length, wrap
+from wrap_checks import MPEG7, needs_mpeg7
 
 
 @pytest.mark.parametrize("k", [1, 2, 4, 8])

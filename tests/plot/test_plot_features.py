@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from tentaclass import plotting
+from tentaclass.plot import features as plotting
 
 plt = pytest.importorskip("matplotlib.pyplot")
 

@@ -6,7 +6,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from tentaclass import shapes  # noqa: E402
-from tentaclass.plotting_wrap import (  # noqa: E402
+from tentaclass.plot.wrapping import (  # noqa: E402
     grasp_spectrum,
     plot_capture_error,
     plot_grasp_spectra,

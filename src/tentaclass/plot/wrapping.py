@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from ._typing import ArrayLike
-from .shapes import as_outline
-from .wrapping import Wrap
+from .._typing import ArrayLike
+from ..shapes import as_outline
+from ..wrapping import Wrap
 
 __all__ = ["grasp_spectrum", "plot_capture_error", "plot_grasp_spectra", "plot_wrap"]
 

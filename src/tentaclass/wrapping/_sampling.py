@@ -10,12 +10,12 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from ._typing import ArrayLike
-from ._validation import check_positive_float, check_positive_int
-from .errors import InputError
-from .shapes import as_outline
-from .wrapping import wrap, wrap_many
-from .wrapping._surface import build_surface
+from .._typing import ArrayLike
+from .._validation import check_positive_float, check_positive_int
+from ..errors import InputError
+from ..shapes import as_outline
+from ._api import wrap, wrap_many
+from ._surface import build_surface
 
 __all__ = ["capture_error", "closing_link_length", "max_link_length"]
 

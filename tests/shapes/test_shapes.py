@@ -4,9 +4,10 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from _wrap_helpers import MPEG7, needs_mpeg7
+from strategies import examples
 from tentaclass import shapes
 from tentaclass.errors import InputError, ShapeError
+from wrap_checks import MPEG7, needs_mpeg7
 
 
 def _ccw_simple(p):
@@ -76,7 +77,7 @@ def test_bad_arguments():
         shapes.triangle([(0, 0), (1, 0), (1, 1), (0, 1)])
 
 
-@settings(max_examples=50, deadline=None)
+@settings(max_examples=examples(50), deadline=None)
 @given(st.integers(3, 40), st.integers(0, 2**31 - 1))
 def test_polygon_of_star_shaped_points_is_valid(n, seed):
     rng = np.random.default_rng(seed)

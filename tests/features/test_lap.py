@@ -3,13 +3,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass.features import fourier_features
 from tentaclass.features.lap import last_lap
 
 SQUARE = np.tile([0, 0, 0, np.pi / 2], 4)
 
 
-@settings(deadline=None, max_examples=40)
+@settings(deadline=None, max_examples=examples(40))
 @given(st.integers(0, 15), st.integers(1, 15), st.booleans())
 def test_last_lap_of_a_longer_wrap_is_the_shape(shift, extra, clockwise):
     q = np.roll(SQUARE, shift)

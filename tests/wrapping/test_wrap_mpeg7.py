@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 import shapely
 
-from _wrap_helpers import MPEG7, crossing_links, needs_mpeg7
 from tentaclass.errors import InputError
 from tentaclass.shapes import load_mpeg7
 from tentaclass.wrapping import wrap_many
+from wrap_checks import MPEG7, crossing_links, needs_mpeg7
 
 
 @pytest.fixture(scope="module")
@@ -15,6 +15,7 @@ def mpeg7():
     return load_mpeg7(MPEG7, max_vertices=1000)
 
 
+@pytest.mark.slow
 @needs_mpeg7
 @pytest.mark.parametrize("mode", ["taut", "hug"])
 def test_all_1400_outlines(mpeg7, mode):

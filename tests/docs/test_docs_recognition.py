@@ -3,7 +3,7 @@
 import doctest
 from pathlib import Path
 
-GUIDE = Path(__file__).resolve().parents[1] / "docs" / "recognition.md"
+GUIDE = Path(__file__).resolve().parents[2] / "docs" / "recognition.md"
 
 
 def test_recognition_guide_examples():

@@ -11,7 +11,8 @@ from tentaclass.classifiers import PNNClassifier, RBFNetworkClassifier, Tentacle
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
 from tentaclass.errors import ModelFileError
 from tentaclass.features import FourierFeatures
-from tentaclass.model_io import FORMAT_NAME, FORMAT_VERSION, load_model, save_model
+from tentaclass.io import load_model, save_model
+from tentaclass.io._model_file import FORMAT_NAME, FORMAT_VERSION
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,7 @@ from click.testing import CliRunner
 
 from tentaclass.cli.main import cli
 from tentaclass.datasets import reference_tentacle
-from tentaclass.model_io import load_model
+from tentaclass.io import load_model
 
 
 def run(*args):
@@ -134,7 +134,7 @@ def test_classify_with_bad_model_files(tmp_path):
 
 def test_classify_refuses_a_bare_classifier_model(tmp_path):
     from tentaclass.classifiers import PNNClassifier
-    from tentaclass.model_io import save_model
+    from tentaclass.io import save_model
 
     path = save_model(PNNClassifier().fit([[0.0], [1.0]], [0, 1]), tmp_path / "b.tcm")
     one_line_error(run("classify", "--model", path, "0 0 pi"), "bare PNNClassifier")
