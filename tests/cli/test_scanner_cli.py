@@ -212,8 +212,10 @@ def test_raw_grey_stream_ending_mid_row_keeps_the_objects():
     )
     assert result.exit_code == 1
     assert [o["label"] for o in _lines(result)] == ["square", "rectangle"]
-    assert result.stderr.strip() == "Error: truncated stream: row 29 has only 33 of 40 bytes " \
+    assert (
+        result.stderr.strip() == "Error: truncated stream: row 29 has only 33 of 40 bytes "
         "(40 pixels of uint8)"
+    )
 
 
 def test_all_white_image_says_no_object_was_found(tmp_path):

@@ -95,8 +95,11 @@ def _image(arr, fmt, mode=None):
 @pytest.mark.parametrize("fmt", ["PNG", "TIFF"])
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
 def test_grey_images_8_and_16_bit_keep_their_levels(fmt, dtype):
-    img = (np.arange(12).reshape(3, 4) * 1000 % 256 if dtype == np.uint8 else
-           np.arange(12).reshape(3, 4) * 5000).astype(dtype)
+    img = (
+        np.arange(12).reshape(3, 4) * 1000 % 256
+        if dtype == np.uint8
+        else np.arange(12).reshape(3, 4) * 5000
+    ).astype(dtype)
     got = read_belt(io.BytesIO(_image(img, fmt)))
     assert got.dtype == dtype and np.array_equal(got, img)
 

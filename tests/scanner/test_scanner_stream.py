@@ -224,3 +224,16 @@ def test_min_area_ignores_speckle():
         assert [(o.id, o.label, o.area) for o in objs] == [(0, "square", 16)]
         assert scanner.n_ignored == 3
     assert len(list(LineScanner(12).scan([img]))) == 4
+
+
+@pytest.mark.parametrize("latency", [1, 5, 40])
+def test_latency_batches_objects_without_changing_them(belt, whole, latency):
+    scanner = LineScanner(belt.image.shape[1], latency=latency)
+    out, late = [], 0
+    for i, row in enumerate(belt.image):
+        got = scanner.feed(row)
+        late = max([late] + [i - o.last_row for o in got])
+        out += got
+    out += scanner.close()
+    assert [o.to_dict() for o in out] == whole
+    assert late <= latency + 1  # emitted at most `latency` rows after the row that ended it

@@ -22,6 +22,7 @@ and deep enough (see :class:`DefectSettings`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 import numba as nb
 import numpy as np
 import shapely

@@ -203,9 +203,7 @@ def _image_rows(fh: IO[bytes], fmt: str, chunk_rows: int) -> Iterator[np.ndarray
     except (MemoryError, InputError):
         raise
     except Image.UnidentifiedImageError as exc:
-        raise InputError(
-            f"cannot read the {name} image: not an image Pillow can identify"
-        ) from exc
+        raise InputError(f"cannot read the {name} image: not an image Pillow can identify") from exc
     except Exception as exc:
         # Pillow reports damaged images as OSError, SyntaxError, zlib.error, ...
         raise InputError(f"cannot read the {name} image: {type(exc).__name__}: {exc}") from exc
@@ -238,7 +236,8 @@ def _raw_rows(
         n = len(data) // row_bytes
         rest = data[n * row_bytes :]
         if n:
-            yield np.frombuffer(data[: n * row_bytes], dt).reshape(n, width).astype(dt.newbyteorder("="))
+            rows = np.frombuffer(data[: n * row_bytes], dt).reshape(n, width)
+            yield rows.astype(dt.newbyteorder("="))
             row += n
     if rest:
         raise InputError(

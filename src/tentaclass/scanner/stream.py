@@ -76,6 +76,11 @@ class LineScanner:
         least (default chosen from the first rows).
     calibration_rows : int, default=64
         Grey rows held back to choose what is ``"auto"``, when needed.
+    latency : int, default=0
+        Rows an object may wait after its last row before it is emitted, so
+        that the objects completed meanwhile are measured and classified in
+        one batch (much cheaper per object when rows come one per call).
+        0: emitted in the call that receives the row after its last row.
     nominal_size, size_tolerance, settings
         As in :func:`~tentaclass.scanner.inspect`.
 
@@ -121,8 +126,9 @@ class LineScanner:
     >>> scanner = LineScanner(10)
     >>> [o.label for o in scanner.scan(grey)]
     ['square', 'rectangle']
-    >>> scanner.threshold_.describe()
-    'dark objects, below the belt level of each column by more than 80 (adaptive threshold; belt 150 to 195)'
+    >>> print(scanner.threshold_.describe())  # doctest: +NORMALIZE_WHITESPACE
+    dark objects, below the belt level of each column by more than 80
+    (adaptive threshold; belt 150 to 195)
     """
 
     def __init__(
@@ -136,6 +142,7 @@ class LineScanner:
         polarity: str = "auto",
         contrast: float | None = None,
         calibration_rows: int = 64,
+        latency: int = 0,
         nominal_size: NominalSize = None,
         size_tolerance: float = 0.1,
         settings: DefectSettings | None = None,
@@ -149,6 +156,7 @@ class LineScanner:
         check_options(threshold, polarity, contrast)
         self.threshold, self.polarity, self.contrast = threshold, polarity, contrast
         self.calibration_rows = check_positive_int(calibration_rows, "calibration_rows")
+        self.latency = check_positive_int(latency, "latency", minimum=0)
         self.nominal_size = nominal_size
         self.rows_seen = 0
         self.n_emitted = 0
@@ -230,8 +238,9 @@ class LineScanner:
             finite = np.isfinite(arr)
             if not finite.all():
                 i, j = np.argwhere(~finite)[0]
+                value = arr[i, j].item()
                 raise InputError(
-                    f"row {self.rows_seen + i}, column {j}: value {arr[i, j].item()!r} is not finite"
+                    f"row {self.rows_seen + i}, column {j}: value {value!r} is not finite"
                 )
         t = self.threshold_
         if t is not None and t.mode == "binary":
@@ -319,11 +328,12 @@ class LineScanner:
         self._rule = (_MODES[t.mode], t.polarity == "dark", t.level, t.contrast, t.rate)
 
     def flush(self) -> list[ScannedObject]:
-        """Process the rows held for calibration now; return the objects they complete.
+        """Process the rows held for calibration now; return the objects complete so far.
 
-        The threshold is then chosen from fewer rows than ``calibration_rows``.
-        Useful when a stream stops early (e.g. on bad input) to report what
-        was complete before.
+        The threshold is then chosen from fewer rows than ``calibration_rows``,
+        and objects waiting for their ``latency`` are emitted. Useful when a
+        stream stops early (e.g. on bad input) to report what was complete
+        before.
 
         Examples
         --------
@@ -334,9 +344,15 @@ class LineScanner:
         >>> scanner.feed(grey), [o.label for o in scanner.flush()]
         ([], ['square'])
         """
-        if self._closed or not self._held:
+        if self._closed:
             return []
-        return self._run(self._release())
+        out = self._run(self._release()) if self._held else []
+        latency, self.latency = self.latency, 0
+        try:
+            out += self._records([], final=False) if self._held_back else []
+        finally:
+            self.latency = latency
+        return out
 
     def close(self) -> list[ScannedObject]:
         """End the stream: emit the objects still open at its last row.
@@ -425,7 +441,11 @@ class LineScanner:
                 p = self._pools
             if final or start >= n:
                 break
-        if not found and not self._held_back:
+        if not found and (
+            not self._held_back
+            or not final
+            and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self.latency
+        ):
             return []
         return self._records(found, final)
 
@@ -443,7 +463,8 @@ class LineScanner:
 
     def _records(self, found: list[tuple], final: bool) -> list[ScannedObject]:
         # Too-tall records of the newest row wait for the next row, so that ids
-        # (by last row) never depend on where a chunk ends.
+        # (by last row) never depend on where a chunk ends; with a latency, the
+        # complete objects wait (up to `latency` rows) to be inspected in one batch.
         found = self._held_back + found
         newest = self._done_rows - 1
         if final:
@@ -451,6 +472,10 @@ class LineScanner:
         else:
             self._held_back = [f for f in found if f[0][0] >= newest]
             found = [f for f in found if f[0][0] < newest]
+            oldest = min((f[0][0] for f in found), default=newest)
+            if found and newest - oldest < self.latency:
+                self._held_back = found + self._held_back
+                return []
         found.sort(key=lambda f: f[0])
         done = [f for f in found if f[1] == 0]
         # The belt's side edges cut objects; along the belt, only the stream's start does.

@@ -77,7 +77,8 @@ class Threshold:
         """
         side = "below" if self.polarity == "dark" else "above"
         if self.mode == "binary":
-            return f"{self.polarity} objects, binary rows (object = {int(self.polarity == 'light')})"
+            one = int(self.polarity == "light")
+            return f"{self.polarity} objects, binary rows (object = {one})"
         if self.mode == "fixed":
             return f"{self.polarity} objects, {side} {self.level:.6g} (fixed threshold)"
         lo, hi = self.background
