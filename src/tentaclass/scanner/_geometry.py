@@ -120,18 +120,15 @@ def fill_holes(mask):
     outside = np.zeros((h, w), dtype=np.bool_)
     stack = np.empty(h * w * 4 + 4, dtype=np.int64)
     top = 0
-    for r in range(h):
-        for c in (0, w - 1):
-            if not mask[r, c] and not outside[r, c]:
-                outside[r, c] = True
-                stack[top] = r * w + c
-                top += 1
-    for c in range(w):
-        for r in (0, h - 1):
-            if not mask[r, c] and not outside[r, c]:
-                outside[r, c] = True
-                stack[top] = r * w + c
-                top += 1
+    for k in range(2 * (h + w)):  # the border: left, right, top and bottom edges
+        if k < 2 * h:
+            r, c = k % h, 0 if k < h else w - 1
+        else:
+            r, c = 0 if k < 2 * h + w else h - 1, (k - 2 * h) % w
+        if not mask[r, c] and not outside[r, c]:
+            outside[r, c] = True
+            stack[top] = r * w + c
+            top += 1
     while top > 0:
         top -= 1
         r, c = divmod(stack[top], w)
