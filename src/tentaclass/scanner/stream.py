@@ -443,8 +443,10 @@ class LineScanner:
                 break
         if not found and (
             not self._held_back
-            or (not final
-            and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self.latency)
+            or (
+                not final
+                and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self.latency
+            )
         ):
             return []
         return self._records(found, final)
