@@ -14,6 +14,9 @@ repeats, the best of each):
 - a scikit-image pipeline: ``label`` + ``regionprops`` (convex hull,
   solidity, Euler number, axes) and outline Fourier features, same classifier.
 
+"Segmentation alone" is the scanner with every object below ``min_area``:
+the run-length kernel without any per-object work.
+
 Belts: ``sparse`` (10 objects of 12-40 px per 1000 lines), ``busy`` (150
 objects of 12-30 px on 4000 lines) and ``crowded`` (2500 objects of 8-16 px
 on 4000 lines, where per-object work dominates). BLAS is limited to one
@@ -175,8 +178,16 @@ def main(
             width = image.shape[1]
             found: list = []
 
-            def scanner(step: int, image=image, width=width, found=found) -> None:
-                s = LineScanner(width, model, max_height=256, latency=latency if step == 1 else 0)
+            def scanner(
+                step: int, image=image, width=width, found=found, min_area: int = 1
+            ) -> None:
+                s = LineScanner(
+                    width,
+                    model,
+                    max_height=256,
+                    min_area=min_area,
+                    latency=latency if step == 1 else 0,
+                )
                 out = []
                 if step == 1:
                     for row in image:
@@ -189,6 +200,8 @@ def main(
             runs = {
                 "chunks": lambda: scanner(chunk_rows),
                 "one_row": lambda: scanner(1),
+                # every object below min_area: segmentation alone, nothing inspected
+                "segment": lambda: scanner(chunk_rows, found=[], min_area=10**9),
                 "label": lambda image=image: ndimage.label(image, np.ones((3, 3), bool)),
                 "opencv": lambda image=image: opencv_pipeline(image, model, n_coeffs),
                 "skimage": lambda image=image: skimage_pipeline(image, model, n_coeffs),
@@ -212,9 +225,11 @@ def main(
             f"{r['lines']:,} / {r['objects']:,}",
             f"{r['chunks_lines_per_s']:,}",
             f"{r['one_row_lines_per_s']:,}",
+            f"{r['segment_lines_per_s']:,}",
             f"{r['label_lines_per_s']:,}",
             f"{r['chunks_lines_per_s'] / r['label_lines_per_s']:.2f}",
             f"{r['one_row_lines_per_s'] / r['label_lines_per_s']:.2f}",
+            f"{r['segment_lines_per_s'] / r['label_lines_per_s']:.2f}",
             f"{r['chunks_lines_per_s'] / r['opencv_lines_per_s']:.2f}",
             f"{r['chunks_lines_per_s'] / r['skimage_lines_per_s']:.2f}",
             f"{r['us_per_object']:.0f}",
@@ -228,9 +243,11 @@ def main(
                 "lines / objects",
                 f"scanner, {chunk_rows}-row feeds (lines/s)",
                 f"scanner, 1-row feeds (latency {latency} rows)",
+                "segmentation alone",
                 "ndimage.label",
                 "chunks / label",
                 "1-row / label",
+                "segmentation / label",
                 "scanner / OpenCV",
                 "scanner / skimage",
                 "us per object (all included)",
