@@ -10,7 +10,8 @@ given from the first rows of a stream:
 - the polarity is the side whose deviations reach farthest (ties: ``dark``);
 - the contrast is half the way from the belt to the farthest deviation on
   that side, at least six times the noise (and at least one grey level for
-  integer data); with no deviation beyond that, a tenth of the data's range;
+  integer data); with no deviation beyond that (no object in the first rows),
+  a quarter of the belt level, and the polarity ``dark``;
 - the belt level of each column is the mean of its pixels that are not
   object (:func:`belt_levels`);
 - the threshold is ``"fixed"`` (one level for the whole line) when the belt
@@ -176,8 +177,9 @@ def choose_threshold(
         if reach > floor:
             contrast = max(floor, 0.5 * reach)
         else:
-            span = float(np.iinfo(x.dtype).max) if is_int else max(abs(float(np.median(xf))), 1.0)
-            contrast = max(floor, 0.1 * span)
+            # no object in sight: a quarter of the belt level (a 12-bit camera's
+            # data in uint16 would never reach a share of the type's range)
+            contrast = max(floor, 0.25 * abs(float(np.median(xf))))
     bg = belt_levels(xf, polarity, float(contrast))
     glob = float(np.median(bg))
     sign = -1.0 if polarity == "dark" else 1.0
