@@ -341,13 +341,16 @@ def find_defects(
         else np.empty((0, 2))
     )
     corner_radius = min(3.0, max(1.0, 0.1 * g.length))
-    in_grid = np.ones(shape, dtype=bool)
-    if extent is not None:
-        rows = np.arange(shape[0])[:, None] + lo[0]
-        cols = np.arange(shape[1])[None, :] + lo[1]
-        in_grid = (
-            (rows >= extent[0]) & (rows < extent[2]) & (cols >= extent[1]) & (cols < extent[3])
+
+    def inside_grid(rr: np.ndarray, cc: np.ndarray) -> bool:
+        """Whether all these canvas pixels lie inside the grid (or belt)."""
+        if extent is None:
+            return True
+        r, c = rr + lo[0], cc + lo[1]
+        return bool(
+            np.all((r >= extent[0]) & (r < extent[2]) & (c >= extent[1]) & (c < extent[3]))
         )
+
     missing = (sd >= s.margin) & ~filled
     extra = mask & (sd < -(1.0 + s.margin))
     gap = None
@@ -373,7 +376,7 @@ def find_defects(
             cen = (float(rr.mean() + lo[0]), float(cc.mean() + lo[1]))
             if kind_group == "extra":
                 kind, note = "burr", f"extra material, {len(rr)} px"
-            elif len(rr) >= 0.2 * exp_area or not in_grid[rr, cc].all():
+            elif len(rr) >= 0.2 * exp_area or not inside_grid(rr, cc):
                 kind, note = "truncated", f"part missing, {len(rr)} px"
             elif (
                 len(vertices)
