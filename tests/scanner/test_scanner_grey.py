@@ -125,6 +125,7 @@ def test_threshold_choice_reports_background_and_contrast():
         (np.zeros((1, 2, 6)), "shape"),
         (np.array([[None] * 6]), "numbers or bool"),
         (np.array(["a"] * 6), "numbers or bool"),
+        (np.zeros(6, dtype=complex), "numbers or bool, got dtype complex128"),
         ([[1, 2, 3, 4, 5, 6], [1, 2]], "row 5 has 2 pixels"),
     ],
 )
