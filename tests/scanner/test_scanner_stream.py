@@ -237,3 +237,12 @@ def test_latency_batches_objects_without_changing_them(belt, whole, latency):
     out += scanner.close()
     assert [o.to_dict() for o in out] == whole
     assert late <= latency + 1  # emitted at most `latency` rows after the row that ended it
+
+
+@pytest.mark.parametrize("chunk", [3, 50])
+def test_latency_with_chunks_and_grey_rows(belt, whole, chunk):
+    assert [o.to_dict() for o in scan(belt.image, chunk, latency=10)] == whole
+    grey = np.where(belt.image, 20, 200).astype(np.uint8)
+    ref = [o.to_dict() for o in scan(grey, grey.shape[0])]
+    assert [o.to_dict() for o in scan(grey, chunk, latency=10)] == ref
+    assert [(o["bbox"], o["area"]) for o in ref] == [(o["bbox"], o["area"]) for o in whole]

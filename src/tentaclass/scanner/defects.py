@@ -347,9 +347,7 @@ def find_defects(
         if extent is None:
             return True
         r, c = rr + lo[0], cc + lo[1]
-        return bool(
-            np.all((r >= extent[0]) & (r < extent[2]) & (c >= extent[1]) & (c < extent[3]))
-        )
+        return bool(np.all((r >= extent[0]) & (r < extent[2]) & (c >= extent[1]) & (c < extent[3])))
 
     missing = (sd >= s.margin) & ~filled
     extra = mask & (sd < -(1.0 + s.margin))

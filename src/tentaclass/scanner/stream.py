@@ -77,10 +77,13 @@ class LineScanner:
     calibration_rows : int, default=64
         Grey rows held back to choose what is ``"auto"``, when needed.
     latency : int, default=0
-        Rows an object may wait after its last row before it is emitted, so
-        that the objects completed meanwhile are measured and classified in
-        one batch (much cheaper per object when rows come one per call).
-        0: emitted in the call that receives the row after its last row.
+        Rows an object may wait after its last row before it is emitted: rows
+        fed in small chunks are staged and run through the kernel
+        ``latency // 2`` at a time, and the objects completed meanwhile are
+        measured and classified in one batch (much cheaper per row and per
+        object when rows come one per call). 0: every row is processed when
+        fed and an object is emitted in the call that receives the row after
+        its last row.
     nominal_size, size_tolerance, settings
         As in :func:`~tentaclass.scanner.inspect`.
 
@@ -157,6 +160,14 @@ class LineScanner:
         self.threshold, self.polarity, self.contrast = threshold, polarity, contrast
         self.calibration_rows = check_positive_int(calibration_rows, "calibration_rows")
         self.latency = check_positive_int(latency, "latency", minimum=0)
+        # with a latency, rows fed one by one are staged and run through the
+        # kernel together; objects then wait at most the rest of the latency
+        self._stage_rows = max(1, self.latency // 2)
+        self._hold = self.latency - self._stage_rows if self.latency else 0
+        self._stage: np.ndarray | None = None
+        self._n_stage = 0
+        self._fast_dtype: np.dtype | None = None
+        self._row_shape = (self.width,)
         self.nominal_size = nominal_size
         self.rows_seen = 0
         self.n_emitted = 0
@@ -272,6 +283,19 @@ class LineScanner:
         objects : list of ScannedObject
             Objects whose last row has passed, in id order.
         """
+        fast = self._fast_dtype
+        if (
+            fast is not None
+            and type(rows) is np.ndarray
+            and rows.dtype == fast
+            and rows.shape == self._row_shape
+            and not self._partial
+        ):
+            # one row of a type that needs no checks, to the stage (a camera's case)
+            self._stage[self._n_stage] = rows
+            self._n_stage += 1
+            self.rows_seen += 1
+            return self._drain() if self._n_stage == self._stage_rows else []
         if self._closed:
             raise InputError("the scanner is closed: create a new one for a new stream")
         if isinstance(rows, bytes | bytearray | memoryview):
@@ -299,7 +323,42 @@ class LineScanner:
                 if self._n_held < self.calibration_rows:
                     return []
                 arr = self._release()
+        if self.latency and (self._n_stage or arr.shape[0] < self._stage_rows):
+            return self._staged(arr)
         return self._run(arr)
+
+    def _staged(self, arr: np.ndarray) -> list[ScannedObject]:
+        """Copy rows to the stage; run the kernel on it whenever it is full."""
+        out = []
+        if self._stage is None or self._stage.dtype != arr.dtype:
+            out += self._drain()
+            self._stage = np.empty((self._stage_rows, self.width), dtype=arr.dtype)
+            # rows of this type go to the stage unchecked: bool for binary rows,
+            # integers for grey ones (any value is valid, none is NaN)
+            binary = self.threshold_.mode == "binary"
+            self._fast_dtype = (
+                np.dtype(bool)
+                if binary and arr.dtype == np.uint8
+                else arr.dtype
+                if not binary and arr.dtype in (np.uint8, np.uint16)
+                else None
+            )
+        i = 0
+        while i < arr.shape[0]:
+            k = min(arr.shape[0] - i, self._stage_rows - self._n_stage)
+            self._stage[self._n_stage : self._n_stage + k] = arr[i : i + k]
+            self._n_stage += k
+            i += k
+            if self._n_stage == self._stage_rows:
+                out += self._drain()
+        return out
+
+    def _drain(self) -> list[ScannedObject]:
+        """Run the staged rows through the kernel."""
+        if not self._n_stage:
+            return []
+        rows, self._n_stage = self._stage[: self._n_stage], 0
+        return self._run(rows)
 
     def _release(self) -> np.ndarray:
         """The rows held for calibration, with the threshold now chosen from them."""
@@ -347,11 +406,12 @@ class LineScanner:
         if self._closed:
             return []
         out = self._run(self._release()) if self._held else []
-        latency, self.latency = self.latency, 0
+        out += self._drain()
+        hold, self._hold = self._hold, 0
         try:
             out += self._records([], final=False) if self._held_back else []
         finally:
-            self.latency = latency
+            self._hold = hold
         return out
 
     def close(self) -> list[ScannedObject]:
@@ -373,8 +433,10 @@ class LineScanner:
         if self.rows_seen == 0:
             raise InputError("empty stream: no rows were fed")
         out = self._run(self._release()) if self._held else []
+        out += self._drain()
         out += self._run(None)
         self._closed = True
+        self._fast_dtype = None
         ignored = self.n_ignored
         self._pools = seg.new_pools(self.width, 1, 1)  # free the pools
         self._pools["st"][seg.S_IGNORED] = ignored
@@ -408,7 +470,8 @@ class LineScanner:
         live = (labs[:, seg.PARENT] == idx) & (labs[:, seg.STATUS] == seg.OPEN)
         live &= labs[:, seg.RHEAD] != -1
         first = labs[live, seg.FIRST]
-        return (self._done_rows - int(first.min()) if first.size else 0) + self._n_held
+        waiting = self._n_held + self._n_stage
+        return (self._done_rows - int(first.min()) if first.size else 0) + waiting
 
     def _run(self, arr: np.ndarray | None) -> list[ScannedObject]:
         """Push rows (None: the end of the stream) through the kernel; build the records."""
@@ -445,7 +508,7 @@ class LineScanner:
             not self._held_back
             or (
                 not final
-                and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self.latency
+                and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self._hold
             )
         ):
             return []
@@ -475,7 +538,7 @@ class LineScanner:
             self._held_back = [f for f in found if f[0][0] >= newest]
             found = [f for f in found if f[0][0] < newest]
             oldest = min((f[0][0] for f in found), default=newest)
-            if found and newest - oldest < self.latency:
+            if found and newest - oldest < self._hold:
                 self._held_back = found + self._held_back
                 return []
         found.sort(key=lambda f: f[0])
