@@ -56,3 +56,16 @@ def test_distance_outside_a_convex_polygon_is_shapelys():
     ref = shapely.distance(poly, shapely.points(np.stack([px, py], axis=1))).max()
     assert max_distance_outside(ring, px, py) == pytest.approx(ref, abs=1e-12)
     assert max_distance_outside(ring, px[:0], py[:0]) == 0.0
+
+
+def test_opening_and_mask_hull_are_scipys_and_the_point_hulls():
+    from skimage.morphology import disk
+
+    from tentaclass.scanner._geometry import mask_hull, opening_cross
+
+    for m in _masks(seed=3):
+        assert np.array_equal(opening_cross(m), ndimage.binary_opening(m, disk(1).astype(bool)))
+        rows, first, last = row_extremes(m)
+        x = np.concatenate([first, last]).astype(float)
+        y = np.concatenate([rows, rows]).astype(float)
+        assert np.array_equal(mask_hull(m, False), hull_ring(x, y))

@@ -11,7 +11,10 @@ overhead than the work itself. These kernels do that work directly:
 - :func:`max_distance_outside`: the largest distance of points from a convex
   polygon (0 inside);
 - :func:`fill_holes`: :func:`scipy.ndimage.binary_fill_holes` (background
-  4-connected to the border stays background).
+  4-connected to the border stays background);
+- :func:`mask_hull`: :func:`hull_ring` of a mask's pixel squares or centres;
+- :func:`opening_cross`: :func:`scipy.ndimage.binary_opening` with the 3 x 3
+  cross.
 """
 
 from __future__ import annotations
@@ -139,6 +142,64 @@ def fill_holes(mask):
                 stack[top] = rr * w + cc
                 top += 1
     return ~outside
+
+
+@nb.njit(**_OPTS)
+def mask_hull(mask, corners):
+    """:func:`hull_ring` of the pixel squares' corners (or centres) of a mask.
+
+    Only the first and last pixel of each row can be hull vertices: at most
+    ``4 * n_rows`` points.
+    """
+    h, w = mask.shape
+    x = np.empty(4 * h)
+    y = np.empty(4 * h)
+    n = 0
+    for r in range(h):
+        first = -1
+        last = -1
+        for c in range(w):
+            if mask[r, c]:
+                if first < 0:
+                    first = c
+                last = c
+        if first < 0:
+            continue
+        if corners:
+            for dy in (-0.5, 0.5):
+                x[n], y[n] = first - 0.5, r + dy
+                x[n + 1], y[n + 1] = last + 0.5, r + dy
+                n += 2
+        else:
+            x[n], y[n] = first, r
+            x[n + 1], y[n + 1] = last, r
+            n += 2
+    return hull_ring(x[:n], y[:n])
+
+
+@nb.njit(**_OPTS)
+def opening_cross(mask):
+    """:func:`scipy.ndimage.binary_opening` with the 3 x 3 cross (outside = 0)."""
+    h, w = mask.shape
+    eroded = np.zeros((h, w), dtype=np.bool_)
+    for r in range(1, h - 1):
+        for c in range(1, w - 1):
+            eroded[r, c] = mask[r, c] and mask[r - 1, c] and mask[r + 1, c]
+            eroded[r, c] = eroded[r, c] and mask[r, c - 1] and mask[r, c + 1]
+    out = np.zeros((h, w), dtype=np.bool_)
+    for r in range(h):
+        for c in range(w):
+            if eroded[r, c]:
+                out[r, c] = True
+                if r > 0:
+                    out[r - 1, c] = True
+                if r < h - 1:
+                    out[r + 1, c] = True
+                if c > 0:
+                    out[r, c - 1] = True
+                if c < w - 1:
+                    out[r, c + 1] = True
+    return out
 
 
 def row_extremes(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -40,14 +40,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from scipy import ndimage
 from skimage.measure import find_contours, regionprops
-from skimage.morphology import disk
 
 from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
-from ._geometry import fill_holes, hull_ring, max_distance_outside, row_extremes
+from ._geometry import fill_holes, mask_hull, max_distance_outside, opening_cross
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -88,19 +86,8 @@ class Geometry:
 
 
 def _hull_coords(mask: np.ndarray, corners: bool = True) -> np.ndarray:
-    """Closed ring of the hull of the pixel squares (``corners``) or centres, as GEOS orders it.
-
-    Only the first and last pixel of each row can be hull vertices, so the hull
-    is built from at most ``4 * n_rows`` points.
-    """
-    rows, first, last = row_extremes(mask)
-    if corners:
-        x = np.concatenate([first - 0.5, first - 0.5, last + 0.5, last + 0.5])
-        y = np.concatenate([rows - 0.5, rows + 0.5, rows - 0.5, rows + 0.5])
-    else:
-        x = np.concatenate([first, last]).astype(float)
-        y = np.concatenate([rows, rows]).astype(float)
-    return hull_ring(x, y.astype(float))
+    """Closed ring of the hull of the pixel squares (``corners``) or centres, as GEOS orders it."""
+    return mask_hull(mask, corners)
 
 
 def _as_geometry(ring: np.ndarray) -> shapely.Geometry:
@@ -123,9 +110,6 @@ def pixel_hull(mask: np.ndarray, *, corners: bool = True) -> shapely.Geometry:
     (-0.5, -0.5, 2.5, 1.5)
     """
     return _as_geometry(_hull_coords(mask, corners))
-
-
-_DISKS = {1: disk(1).astype(bool)}
 
 
 def opening_radius(width: float) -> int:
@@ -182,7 +166,7 @@ def measure(mask: np.ndarray) -> Geometry:
         # Thin burrs would stretch the hull: if the opening removed something that
         # sticks out of the opened shape's hull by more than 2 pixels (more than
         # the corners an opening rounds off), measure the shape without it.
-        opened = ndimage.binary_opening(filled, _DISKS[radius])
+        opened = opening_cross(filled)  # skimage's disk(1): the 3 x 3 cross
         if opened.any():
             opened_ring = _hull_coords(opened)
             if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
