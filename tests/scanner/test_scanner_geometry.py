@@ -69,3 +69,16 @@ def test_opening_and_mask_hull_are_scipys_and_the_point_hulls():
         x = np.concatenate([first, last]).astype(float)
         y = np.concatenate([rows, rows]).astype(float)
         assert np.array_equal(mask_hull(m, False), hull_ring(x, y))
+
+
+@pytest.mark.parametrize("eight", [True, False])
+def test_groups_are_numbered_and_listed_as_ndimage_does(eight):
+    from tentaclass.scanner.defects import _components
+
+    for m in _masks(seed=5):
+        lab, n = ndimage.label(m, np.ones((3, 3), bool) if eight else None)
+        idx = ndimage.value_indices(lab, ignore_value=0)
+        got = _components(m, eight)
+        assert len(got) == n
+        for k, (rr, cc) in enumerate(got, 1):
+            assert np.array_equal(rr, idx[k][0]) and np.array_equal(cc, idx[k][1])

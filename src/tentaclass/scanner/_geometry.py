@@ -202,6 +202,59 @@ def opening_cross(mask):
     return out
 
 
+@nb.njit(**_OPTS)
+def label_runs(region, eight):
+    """Connected groups of ``region`` as :func:`scipy.ndimage.label` numbers them.
+
+    Groups are numbered in the raster order of their first pixel, and each
+    group's pixels listed in raster order (as :func:`scipy.ndimage.value_indices`
+    gives them). Returns ``rr``, ``cc`` (all pixels, group after group) and the
+    ``starts`` of the groups in them (``n_groups + 1``).
+    """
+    h, w = region.shape
+    lab = np.zeros((h, w), dtype=np.int64)
+    stack = np.empty(h * w, dtype=np.int64)
+    n = 0
+    for r0 in range(h):
+        for c0 in range(w):
+            if not region[r0, c0] or lab[r0, c0]:
+                continue
+            n += 1
+            lab[r0, c0] = n
+            stack[0] = r0 * w + c0
+            top = 1
+            while top:
+                top -= 1
+                r, c = divmod(stack[top], w)
+                for dr in (-1, 0, 1):
+                    for dc in (-1, 0, 1):
+                        if (dr == 0 and dc == 0) or (not eight and dr != 0 and dc != 0):
+                            continue
+                        rr, cc = r + dr, c + dc
+                        if 0 <= rr < h and 0 <= cc < w and region[rr, cc] and not lab[rr, cc]:
+                            lab[rr, cc] = n
+                            stack[top] = rr * w + cc
+                            top += 1
+    starts = np.zeros(n + 1, dtype=np.int64)
+    for r in range(h):
+        for c in range(w):
+            if lab[r, c]:
+                starts[lab[r, c]] += 1
+    for k in range(n):
+        starts[k + 1] += starts[k]
+    pos = starts[:-1].copy()
+    rows = np.empty(starts[n], dtype=np.int64)
+    cols = np.empty(starts[n], dtype=np.int64)
+    for r in range(h):
+        for c in range(w):
+            k = lab[r, c]
+            if k:
+                rows[pos[k - 1]] = r
+                cols[pos[k - 1]] = c
+                pos[k - 1] += 1
+    return rows, cols, starts
+
+
 def row_extremes(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Rows holding pixels, and the first and last pixel's column in each."""
     rows = np.flatnonzero(mask.any(axis=1))

@@ -21,6 +21,7 @@ and deep enough (see :class:`DefectSettings`).
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numba as nb
@@ -28,12 +29,11 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
+from ._geometry import label_runs
 from .descriptors import Geometry, pixel_hull
 from .records import Defect
 
 __all__ = ["DefectSettings", "expected_outline", "find_defects"]
-
-_EIGHT = np.ones((3, 3), dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -251,14 +251,12 @@ def _edge_distance(
     return out
 
 
-def _components(region: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+def _components(region: np.ndarray, eight: bool = True) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(rows, cols)`` of each 8- (or 4-) connected group, numbered as ndimage.label does."""
     if not region.any():
         return []
-    lab, n = ndimage.label(region, _EIGHT)
-    if n == 0:
-        return []
-    idx = ndimage.value_indices(lab, ignore_value=0)
-    return [idx[k] for k in range(1, n + 1)]
+    rr, cc, starts = label_runs(region, eight)
+    return [(rr[a:b], cc[a:b]) for a, b in itertools.pairwise(starts.tolist())]
 
 
 def _box(rr: np.ndarray, cc: np.ndarray) -> tuple[int, int, int, int]:
@@ -392,8 +390,4 @@ def find_defects(
 
 
 def _components_4(region: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    lab, n = ndimage.label(region)
-    if n == 0:
-        return []
-    idx = ndimage.value_indices(lab, ignore_value=0)
-    return [idx[k] for k in range(1, n + 1)]
+    return _components(region, eight=False)
