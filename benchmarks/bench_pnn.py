@@ -30,7 +30,7 @@ from sklearn.neighbors import KNeighborsClassifier
 from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _timing import best_time, markdown_table
+from _timing import best_time, machine, markdown_table
 
 from tentaclass.classifiers import PNNClassifier
 
@@ -138,7 +138,8 @@ def main(
     ]
     print(
         f"PNN predict, {n_train:,} training x {n_test:,} test arrays of {n_features} features, "
-        f"{n_classes} classes, spread {spread:.3g} (auto); times in s, rates in 1e9 pairs/s\n"
+        f"{n_classes} classes, spread {spread:.3g} (auto); times in s, rates in 1e9 pairs/s; "
+        f"{machine()}\n"
     )
     print(
         markdown_table(

@@ -1,126 +1,269 @@
-"""Throughput of the streaming line scanner on a synthetic belt of 2048-pixel lines.
+"""Throughput of the streaming line scanner on belts of 2048-pixel lines, side by side.
 
-End to end (segmentation, features, classification, defects) in lines per
-second, against scipy.ndimage.label (8-connected) on the same image as the
-yardstick, on one core. Run::
+End to end (segmentation, features, classification, defect check) in lines
+per second, fed in 4096-row chunks and one row per call (as a camera delivers
+them; with ``latency=256``, so that objects completed within 256 rows are
+inspected in one batch), against, on the same belt image and in the same run (interleaved
+repeats, the best of each):
 
-    .venv/bin/python benchmarks/bench_scanner.py            # full size
-    .venv/bin/python benchmarks/bench_scanner.py --lines 2000 --repeat 1
+- ``scipy.ndimage.label`` (8-connected), which only labels: the yardstick;
+- an OpenCV pipeline: ``connectedComponentsWithStats``, then per object
+  ``findContours``, ``convexHull``, ``minAreaRect``, ``minEnclosingCircle``,
+  ``convexityDefects``, hole count and hull Fourier features, and one batch
+  classification with the same model;
+- a scikit-image pipeline: ``label`` + ``regionprops`` (convex hull,
+  solidity, Euler number, axes) and outline Fourier features, same classifier.
 
-The belt holds objects of the four thesis classes (circumradius 6-20 px, a
-third damaged) at random places; ``--per-1000`` sets how many objects pass per
-1000 lines over the whole width (the per-object work, ~0.5 ms, dominates on
-busy belts; segmentation dominates on quiet ones).
+"Segmentation alone" is the scanner with every object below ``min_area``:
+the run-length kernel without any per-object work.
+
+Belts: ``sparse`` (10 objects of 12-40 px per 1000 lines), ``busy`` (150
+objects of 12-30 px on 4000 lines) and ``crowded`` (2500 objects of 8-16 px
+on 4000 lines, where per-object work dominates). BLAS is limited to one
+thread (threadpoolctl); the header gives the machine's load. Run::
+
+    .venv/bin/python benchmarks/bench_scanner.py
+    .venv/bin/python benchmarks/bench_scanner.py --belts busy --repeat 2
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import time
+import sys
+from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
+from threadpoolctl import threadpool_limits
+
+sys.path.insert(0, str(Path(__file__).parent))
+from _timing import interleaved, machine, markdown_table
 
 from tentaclass.scanner import LineScanner, default_model
+from tentaclass.scanner.descriptors import measure
 from tentaclass.scanner.simulate import make_objects
+
+BELTS = {
+    # name: (lines, objects, circumradius range)
+    "sparse": (20_000, 200, (6.0, 20.0)),
+    "busy": (4_000, 150, (6.0, 15.0)),
+    "crowded": (4_000, 2_500, (4.0, 8.0)),
+}
 
 
 def make_test_belt(
-    n_lines: int, width: int = 2048, per_1000: float = 10.0, seed: int = 0
+    n_lines: int,
+    n_objects: int,
+    radius_range: tuple[float, float],
+    width: int = 2048,
+    seed: int = 0,
 ) -> tuple[np.ndarray, int]:
-    """A belt with about ``per_1000`` objects per 1000 lines, from a pool of 256 objects."""
+    """A belt with ``n_objects`` from a pool of 256 (a third damaged), in lanes, not touching."""
     rng = np.random.default_rng(seed)
+    size = int(2 * radius_range[1] + 6)
     pool = make_objects(
-        256, shape=(44, 44), radius_range=(6.0, 20.0), damaged_fraction=0.33, random_state=seed
+        256, shape=(size, size), radius_range=radius_range, damaged_fraction=0.33, random_state=seed
     )
     crops = []
     for g in pool.grids:
         rows = np.nonzero(g.any(axis=1))[0]
         cols = np.nonzero(g.any(axis=0))[0]
         crops.append(g[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1])
+    lane_w = max(c.shape[1] for c in crops) + 3
     image = np.zeros((n_lines, width), dtype=bool)
-    lanes = width // 48
-    busy = np.zeros((lanes, n_lines + 4), dtype=bool)  # rows taken in each lane
+    lanes = width // lane_w
+    free = np.zeros(lanes, dtype=int)  # next free row of each lane
     placed = 0
-    for _ in range(round(n_lines * per_1000 / 1000)):
+    for _ in range(n_objects):
         crop = crops[int(rng.integers(len(crops)))]
         h, w = crop.shape
-        for _attempt in range(10):
-            lane = int(rng.integers(lanes))
-            top = int(rng.integers(0, n_lines - h))
-            if not busy[lane, max(top - 2, 0) : top + h + 2].any():
-                break
-        else:
+        lane = int(np.argmin(free + rng.integers(0, 8, lanes)))
+        spacing = min(n_lines * lanes // n_objects, n_lines - 2 * h) - h
+        top = int(free[lane] + rng.integers(2, 2 + max(4, spacing)))
+        if top + h >= n_lines:
             continue
-        busy[lane, top : top + h] = True
-        left = lane * 48 + 2
+        left = lane * lane_w + 1
         image[top : top + h, left : left + w] = crop
+        free[lane] = top + h + 2
         placed += 1
     return image, placed
 
 
-def _best(fn, repeat: int) -> float:
-    best = np.inf
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return best
+def _hull_fourier(points: np.ndarray, n_coeffs: int = 8) -> np.ndarray:
+    z = points[:, 0] + 1j * points[:, 1]
+    spec = np.abs(np.fft.fft(z - z.mean(), 64 if len(z) < 64 else len(z)))
+    out = spec[1 : n_coeffs + 1]
+    return out / (spec[1] + 1e-12) if out.size == n_coeffs else np.resize(out, n_coeffs)
+
+
+def opencv_pipeline(image: np.ndarray, model, n_coeffs: int) -> np.ndarray:
+    """Label, measure each object's contour, hull and defects with OpenCV; classify."""
+    import cv2
+
+    n, lab, stats, _ = cv2.connectedComponentsWithStats(
+        image.view(np.uint8), connectivity=8, ltype=cv2.CV_32S
+    )
+    feats = []
+    for k in range(1, n):
+        x, y, w, h, area = stats[k]
+        m = (lab[y : y + h, x : x + w] == k).astype(np.uint8)
+        contours, hier = cv2.findContours(np.pad(m, 1), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
+        outer = max(contours, key=len)
+        hull = cv2.convexHull(outer)
+        (_, _), (rw, rh), _ = cv2.minAreaRect(hull)
+        _, radius = cv2.minEnclosingCircle(hull)
+        hull_area = cv2.contourArea(hull) + 0.5
+        perimeter = cv2.arcLength(hull, True) + 1e-9
+        holes = int((hier[0][:, 3] != -1).sum()) if hier is not None else 0
+        deepest = 0.0
+        if len(outer) > 3:
+            try:
+                d = cv2.convexityDefects(outer, cv2.convexHull(outer, returnPoints=False))
+                deepest = float(d.reshape(-1, 4)[:, 3].max()) / 256 if d is not None else 0.0
+            except cv2.error:
+                pass
+        long, short = max(rw, rh) + 1, min(rw, rh) + 1
+        feats.append(
+            [
+                hull_area / (long * short),
+                short / long,
+                4 * np.pi * hull_area / perimeter**2,
+                hull_area / (np.pi * (radius + 0.5) ** 2),
+                1 / np.sqrt(area) + 0 * holes + 0 * deepest,
+                *_hull_fourier(hull[:, 0, :].astype(float), n_coeffs),
+            ]
+        )
+    return model.predict_features_proba(np.asarray(feats))
+
+
+def skimage_pipeline(image: np.ndarray, model, n_coeffs: int) -> np.ndarray:
+    """Label and measure with scikit-image regionprops (hull, Euler number, axes); classify."""
+    from skimage.measure import find_contours, label, regionprops
+
+    feats = []
+    for p in regionprops(label(image, connectivity=2)):
+        long = p.axis_major_length + 1
+        short = p.axis_minor_length + 1
+        outline = find_contours(np.pad(p.image_filled, 1).astype(float), 0.5)
+        ring = max(outline, key=len)
+        feats.append(
+            [
+                p.solidity,
+                short / long,
+                p.extent,
+                p.eccentricity,
+                1 / np.sqrt(p.area) + 0 * p.euler_number + 0 * p.orientation,
+                *_hull_fourier(ring[:, ::-1], n_coeffs),
+            ]
+        )
+    return model.predict_features_proba(np.asarray(feats))
 
 
 def main(
-    n_lines: int = 50_000,
-    width: int = 2048,
-    per_1000: float = 10.0,
-    chunk_rows: int = 4096,
+    belts: tuple[str, ...] = ("sparse", "busy", "crowded"),
     repeat: int = 3,
+    chunk_rows: int = 4096,
     seed: int = 0,
-) -> dict:
-    """Run the benchmark; print and return a dict of the numbers."""
-    image, n_objects = make_test_belt(n_lines, width, per_1000, seed)
+    latency: int = 256,
+) -> list[dict]:
+    """Run the benchmark; print a markdown table and return its rows."""
     model = default_model()
-    structure = np.ones((3, 3), dtype=bool)
-    found = []
+    n_coeffs = model.features([measure(np.ones((3, 3), dtype=bool))]).shape[1] - 5
+    results = []
+    with threadpool_limits(1, user_api="blas"):
+        header = machine()
+        for name in belts:
+            n_lines, n_objects, radii = BELTS[name]
+            image, placed = make_test_belt(n_lines, n_objects, radii, seed=seed)
+            width = image.shape[1]
+            found: list = []
 
-    def run_scanner() -> None:
-        scanner = LineScanner(width, model, max_height=256)
-        out = []
-        for i in range(0, n_lines, chunk_rows):
-            out += scanner.feed(image[i : i + chunk_rows])
-        out += scanner.close()
-        found[:] = out
+            def scanner(
+                step: int, image=image, width=width, found=found, min_area: int = 1
+            ) -> None:
+                s = LineScanner(
+                    width,
+                    model,
+                    max_height=256,
+                    min_area=min_area,
+                    latency=latency if step == 1 else 0,
+                )
+                out = []
+                if step == 1:
+                    for row in image:
+                        out += s.feed(row)
+                else:
+                    for i in range(0, image.shape[0], step):
+                        out += s.feed(image[i : i + step])
+                found[:] = out + s.close()
 
-    def run_label() -> None:
-        ndimage.label(image, structure)
-
-    t_scan = _best(run_scanner, repeat)
-    t_label = _best(run_label, repeat)
-    result = {
-        "lines": n_lines,
-        "width": width,
-        "objects_placed": n_objects,
-        "objects_found": len(found),
-        "rejected": sum(not o.accept for o in found),
-        "chunk_rows": chunk_rows,
-        "scanner_lines_per_s": round(n_lines / t_scan),
-        "scanner_objects_per_s": round(len(found) / t_scan),
-        "ndimage_label_lines_per_s": round(n_lines / t_label),
-        "scanner_over_label_time": round(t_scan / t_label, 2),
-        "cpu_count": os.cpu_count(),
-    }
-    print(json.dumps(result, indent=2))
-    return result
+            runs = {
+                "chunks": lambda: scanner(chunk_rows),
+                "one_row": lambda: scanner(1),
+                # every object below min_area: segmentation alone, nothing inspected
+                "segment": lambda: scanner(chunk_rows, found=[], min_area=10**9),
+                "label": lambda image=image: ndimage.label(image, np.ones((3, 3), bool)),
+                "opencv": lambda image=image: opencv_pipeline(image, model, n_coeffs),
+                "skimage": lambda image=image: skimage_pipeline(image, model, n_coeffs),
+            }
+            best = interleaved(runs, repeat)
+            rate = {k: n_lines / t for k, t in best.items()}
+            results.append(
+                {
+                    "belt": name,
+                    "lines": n_lines,
+                    "objects": len(found),
+                    "placed": placed,
+                    **{f"{k}_lines_per_s": round(v) for k, v in rate.items()},
+                    "us_per_object": 1e6 * best["chunks"] / max(len(found), 1),
+                }
+            )
+    print(f"LineScanner, lines of 2048 px, end to end; {header}\n")
+    rows = [
+        [
+            r["belt"],
+            f"{r['lines']:,} / {r['objects']:,}",
+            f"{r['chunks_lines_per_s']:,}",
+            f"{r['one_row_lines_per_s']:,}",
+            f"{r['segment_lines_per_s']:,}",
+            f"{r['label_lines_per_s']:,}",
+            f"{r['chunks_lines_per_s'] / r['label_lines_per_s']:.2f}",
+            f"{r['one_row_lines_per_s'] / r['label_lines_per_s']:.2f}",
+            f"{r['segment_lines_per_s'] / r['label_lines_per_s']:.2f}",
+            f"{r['chunks_lines_per_s'] / r['opencv_lines_per_s']:.2f}",
+            f"{r['chunks_lines_per_s'] / r['skimage_lines_per_s']:.2f}",
+            f"{r['us_per_object']:.0f}",
+        ]
+        for r in results
+    ]
+    print(
+        markdown_table(
+            [
+                "belt",
+                "lines / objects",
+                f"scanner, {chunk_rows}-row feeds (lines/s)",
+                f"scanner, 1-row feeds (latency {latency} rows)",
+                "segmentation alone",
+                "ndimage.label",
+                "chunks / label",
+                "1-row / label",
+                "segmentation / label",
+                "scanner / OpenCV",
+                "scanner / skimage",
+                "us per object (all included)",
+            ],
+            rows,
+        )
+    )
+    return results
 
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--lines", type=int, default=50_000)
-    p.add_argument("--width", type=int, default=2048)
-    p.add_argument("--per-1000", type=float, default=10.0)
-    p.add_argument("--chunk-rows", type=int, default=4096)
+    p.add_argument("--belts", nargs="+", default=list(BELTS), choices=list(BELTS))
     p.add_argument("--repeat", type=int, default=3)
+    p.add_argument("--chunk-rows", type=int, default=4096)
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--latency", type=int, default=256)
     a = p.parse_args()
-    main(a.lines, a.width, a.per_1000, a.chunk_rows, a.repeat, a.seed)
+    main(tuple(a.belts), a.repeat, a.chunk_rows, a.seed, a.latency)

@@ -17,9 +17,10 @@ def load(name):
 
 def test_bench_fourier_smoke(capsys):
     rows = load("bench_fourier").main(n_arrays=300, ns=(16, 64), loop_arrays=50, repeat=1)
-    assert [r["n"] for r in rows] == [16, 64]
+    assert [(r["threads"], r["n"]) for r in rows] == [(1, 16), (1, 64), ("all", 16), ("all", 64)]
     assert all(r["ours"] > 0 for r in rows)
-    assert "bare matmul" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "bare matmul" in out and "BLAS threads" in out and "load average" in out
 
 
 def test_bench_pnn_smoke(capsys):

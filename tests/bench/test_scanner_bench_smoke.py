@@ -12,11 +12,14 @@ def _load(path):
     return module
 
 
-def test_benchmark_runs_tiny(capsys):
-    result = _load(BENCH).main(n_lines=600, width=256, per_1000=20, chunk_rows=128, repeat=1)
-    assert result["objects_found"] == result["objects_placed"] > 0
-    assert result["scanner_lines_per_s"] > 0 and result["ndimage_label_lines_per_s"] > 0
-    assert '"lines": 600' in capsys.readouterr().out
+def test_benchmark_runs_tiny(capsys, monkeypatch):
+    module = _load(BENCH)
+    monkeypatch.setitem(module.BELTS, "tiny", (300, 6, (5.0, 9.0)))
+    (result,) = module.main(belts=("tiny",), repeat=1, chunk_rows=64)
+    assert result["objects"] == result["placed"] > 0
+    assert result["chunks_lines_per_s"] > 0 and result["label_lines_per_s"] > 0
+    out = capsys.readouterr().out
+    assert "| tiny | 300 / 6 |" in out and "load average" in out
 
 
 def test_defect_curve_example_runs_tiny(tmp_path):

@@ -183,3 +183,60 @@ def test_pbm_header_too_large_for_memory_is_one_line_error():
 def test_negative_seed_is_usage_error():
     result = CliRunner().invoke(scan, ["--simulate", "3", "--seed", "-1"])
     assert result.exit_code == 2 and "--seed" in result.stderr
+
+
+def _grey_belt(dtype=np.uint16):
+    img = np.full((30, 40), 50000 if dtype == np.uint16 else 200, dtype=dtype)
+    img += np.linspace(0, 20, 40).astype(dtype)[None, :]  # uneven light
+    img[3:9, 4:10] = 3000 if dtype == np.uint16 else 20  # dark square
+    img[12:24, 20:26] = 3000 if dtype == np.uint16 else 20  # dark rectangle
+    return img
+
+
+@pytest.mark.parametrize("fmt", ["PNG", "TIFF"])
+def test_grey_16_bit_image(tmp_path, fmt):
+    from PIL import Image
+
+    path = tmp_path / f"belt.{fmt.lower()}"
+    Image.fromarray(_grey_belt()).save(path)
+    result = CliRunner().invoke(scan, [str(path), "--summary", "json"])
+    assert result.exit_code == 0, result.output
+    *objs, last = _lines(result)
+    assert [o["label"] for o in objs] == ["square", "rectangle"]
+    assert last["summary"]["threshold"]["polarity"] == "dark"
+
+
+def test_raw_grey_stream_ending_mid_row_keeps_the_objects():
+    data = _grey_belt(np.uint8).tobytes()[:-7]
+    result = CliRunner().invoke(
+        scan, ["-", "--width", "40", "--dtype", "uint8", "--chunk-rows", "16"], input=data
+    )
+    assert result.exit_code == 1
+    assert [o["label"] for o in _lines(result)] == ["square", "rectangle"]
+    assert (
+        result.stderr.strip() == "Error: truncated stream: row 29 has only 33 of 40 bytes "
+        "(40 pixels of uint8)"
+    )
+
+
+def test_all_white_image_says_no_object_was_found(tmp_path):
+    from PIL import Image
+
+    path = tmp_path / "white.png"
+    Image.fromarray(np.full((20, 30), 255, dtype=np.uint8)).save(path)
+    result = CliRunner().invoke(scan, [str(path)])
+    assert result.exit_code == 0 and result.stdout == ""
+    assert "no object found in 20 rows (dark objects, below" in result.stderr
+    light = CliRunner().invoke(scan, [str(path), "--polarity", "light"])
+    assert "no object found in 20 rows (light objects, above" in light.stderr
+
+
+def test_wrong_bit_depth_and_bad_threshold(tmp_path):
+    from PIL import Image
+
+    path = tmp_path / "belt.tif"
+    Image.fromarray(np.zeros((4, 5), dtype=np.float32)).save(path)
+    result = CliRunner().invoke(scan, [str(path)])
+    assert result.exit_code == 1 and "32-bit float pixels" in result.stderr
+    bad = CliRunner().invoke(scan, [str(path), "--threshold", "otsu"])
+    assert bad.exit_code == 2 and "--threshold" in bad.stderr

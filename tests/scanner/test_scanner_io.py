@@ -49,7 +49,7 @@ def _p1():
     ids=["text", "text-spaced", "pbm-p4", "pbm-p1", "png", "raw"],
 )
 def test_formats_roundtrip(data, kwargs, tmp_path):
-    assert np.array_equal(read_belt(io.BytesIO(data), **kwargs), IMG)
+    assert np.array_equal(read_belt(io.BytesIO(data), **kwargs) > 0, IMG)
     path = tmp_path / "belt"
     path.write_bytes(data)
     chunks = list(read_rows(path, chunk_rows=4, **kwargs))
@@ -58,7 +58,7 @@ def test_formats_roundtrip(data, kwargs, tmp_path):
     else:
         assert all(len(c) <= 4 for c in chunks)
         got = np.concatenate(chunks)
-    assert np.array_equal(got, IMG)
+    assert np.array_equal(got > 0, IMG)
 
 
 @pytest.mark.parametrize(
@@ -84,14 +84,48 @@ def test_bad_input(data, kwargs, match):
         read_belt(io.BytesIO(data), **kwargs)
 
 
-def test_grey_png_is_refused():
-    img = np.arange(12, dtype=np.uint8).reshape(3, 4) * 20
+def _image(arr, fmt, mode=None):
     from PIL import Image
 
     buf = io.BytesIO()
-    Image.fromarray(img).save(buf, "PNG")
-    with pytest.raises(InputError, match="not two-level"):
-        read_belt(io.BytesIO(buf.getvalue()))
+    Image.fromarray(arr, mode=mode).save(buf, fmt)
+    return buf.getvalue()
+
+
+@pytest.mark.parametrize("fmt", ["PNG", "TIFF"])
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+def test_grey_images_8_and_16_bit_keep_their_levels(fmt, dtype):
+    img = (
+        np.arange(12).reshape(3, 4) * 1000 % 256
+        if dtype == np.uint8
+        else np.arange(12).reshape(3, 4) * 5000
+    ).astype(dtype)
+    got = read_belt(io.BytesIO(_image(img, fmt)))
+    assert got.dtype == dtype and np.array_equal(got, img)
+
+
+def test_image_of_wrong_bit_depth_is_refused():
+    data = _image(np.zeros((3, 4), dtype=np.float32), "TIFF")
+    with pytest.raises(InputError, match="32-bit float pixels; expected a 1, 8 or 16-bit"):
+        read_belt(io.BytesIO(data))
+    data = _image(np.zeros((3, 4), dtype=np.int32), "TIFF")
+    with pytest.raises(InputError, match="32-bit integer pixels"):
+        read_belt(io.BytesIO(data))
+
+
+def test_raw_grey_rows_of_any_dtype_and_truncated_stream():
+    img = (np.arange(20).reshape(4, 5) * 3000).astype(np.uint16)
+    chunks = list(read_rows(io.BytesIO(img.tobytes()), width=5, dtype="uint16", chunk_rows=3))
+    assert [c.shape for c in chunks] == [(3, 5), (1, 5)]
+    assert np.array_equal(np.concatenate(chunks), img)
+    f = np.linspace(0, 1, 10, dtype=np.float32).reshape(2, 5)
+    assert np.array_equal(read_belt(io.BytesIO(f.tobytes()), width=5, dtype="float32"), f)
+    rows = read_rows(io.BytesIO(img.tobytes()[:-3]), width=5, dtype="uint16", chunk_rows=2)
+    assert next(rows).shape == (2, 5)  # whole rows come out before the error
+    with pytest.raises(InputError, match=r"truncated stream: row 3 has only 7 of 10 bytes"):
+        list(rows)
+    with pytest.raises(InputError, match="dtype must be one of"):
+        read_belt(io.BytesIO(b"\x00"), width=1, dtype="int7")
 
 
 def test_missing_file():

@@ -1,12 +1,16 @@
 """``tentaclass scan``: belt rows -> one JSON line per object, as the belt runs.
 
-Reads rows from FILE (or ``-`` for stdin) as text lines of 0/1, a PBM or PNG
-image of the belt, or raw bytes (one byte, 0 or 1, per pixel) with
-``--width``; or generates a belt with ``--simulate N``. Every object is written
-to stdout as one JSON line as soon as it has passed the sensor. A summary goes
-to stderr as one line (``--summary json`` writes it as a last JSON line on
-stdout instead, under the key ``"summary"``). Bad input ends with a one-line
-error on stderr and exit code 1; objects already written stay written.
+Reads rows from FILE (or ``-`` for stdin) as text lines of 0/1, a PBM image,
+a grey-level PNG or TIFF image (8 or 16 bit), or a raw stream with ``--width``:
+one byte, 0 or 1, per pixel, or grey levels of ``--dtype`` as a line camera
+delivers them; or generates a belt with ``--simulate N``. Grey levels are
+thresholded (``--threshold``, ``--polarity``; by default chosen from the first
+rows and reported in the summary). Every object is written to stdout as one
+JSON line (flushed) as soon as it has passed the sensor. A summary goes to
+stderr as one line (``--summary json`` writes it as a last JSON line on stdout
+instead, under the key ``"summary"``); when no object was found, a line on
+stderr says so with the threshold used. Bad input ends with a one-line error
+on stderr and exit code 1; objects already written stay written.
 """
 
 from __future__ import annotations
@@ -70,18 +74,52 @@ def _emit(objects: list, stats: Counter, out: list | None) -> None:
             out.append(obj)
 
 
+def _chunks(source: Any, keep: list | None) -> Any:
+    """The chunks of ``source``, also kept (as arrays) in ``keep`` for the figure."""
+    for chunk in source:
+        if keep is not None:
+            keep.append(chunk if isinstance(chunk, np.ndarray) else np.frombuffer(chunk, np.uint8))
+        yield chunk
+
+
 @click.command()
 @click.argument("file", required=False, type=click.Path(dir_okay=False, allow_dash=True))
 @click.option(
     "--format",
     "fmt",
-    type=click.Choice(["text", "pbm", "png", "raw"]),
+    type=click.Choice(["text", "pbm", "png", "tiff", "raw"]),
     help="Input format; default detected from the first bytes.",
 )
 @click.option(
     "--width",
     type=click.IntRange(min=1),
     help="Pixels per row (required for raw bytes; belt width for --simulate).",
+)
+@click.option(
+    "--dtype",
+    type=click.Choice(["uint8", "uint16", "float32", "float64"]),
+    help="Raw input of grey levels of this type (little endian); without it raw "
+    "input is one byte, 0 or 1, per pixel.",
+)
+@click.option(
+    "--threshold",
+    default="auto",
+    show_default=True,
+    help="Grey level separating objects from the belt: a number, 'fixed' or "
+    "'adaptive' (a running belt level per column, for uneven light), 'binary' "
+    "(0/1 rows) or 'auto' (chosen from the first rows).",
+)
+@click.option(
+    "--polarity",
+    type=click.Choice(["auto", "dark", "light"]),
+    default="auto",
+    show_default=True,
+    help="Objects darker or lighter than the belt.",
+)
+@click.option(
+    "--contrast",
+    type=click.FloatRange(min=0, min_open=True),
+    help="Least difference from the belt level of an object pixel (default from the data).",
 )
 @click.option(
     "--model",
@@ -155,6 +193,10 @@ def scan(
     file: str | None,
     fmt: str | None,
     width: int | None,
+    dtype: str | None,
+    threshold: str,
+    polarity: str,
+    contrast: float | None,
     model_file: Path | None,
     max_height: int,
     min_area: int,
@@ -188,6 +230,14 @@ def scan(
         raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
     if write_belt is not None and simulate is None:
         raise click.UsageError("--write-belt needs --simulate")
+    if threshold not in ("auto", "binary", "fixed", "adaptive"):
+        try:
+            threshold = float(threshold)  # type: ignore[assignment]
+        except ValueError:
+            raise click.BadParameter(
+                f"{threshold!r}: a number, auto, binary, fixed or adaptive",
+                param_hint="--threshold",
+            ) from None
     stats: Counter = Counter()
     kept: list | None = [] if annotate is not None else None
     belt_rows: list[np.ndarray] | None = [] if annotate is not None else None
@@ -220,29 +270,35 @@ def scan(
                 progress.start()
                 task = progress.add_task("scanning", total=total)
                 fh = _CountingReader(fh, lambda n: progress.advance(task, n))
-            source = read_rows(fh, fmt=fmt, width=width, chunk_rows=chunk_rows)
+            source = read_rows(fh, fmt=fmt, width=width, chunk_rows=chunk_rows, dtype=dtype)
             belt_width = width
         scanner = None
-        for chunk in source:
-            if scanner is None:
-                w = belt_width or (chunk.shape[1] if isinstance(chunk, np.ndarray) else None)
-                scanner = LineScanner(
-                    w,
-                    model,
-                    max_height=max_height,
-                    min_area=min_area,
-                    nominal_size=nominal_size,
-                    size_tolerance=size_tolerance,
-                )
-            if belt_rows is not None:
-                belt_rows.append(
-                    chunk if isinstance(chunk, np.ndarray) else np.frombuffer(chunk, np.uint8)
-                )
-            _emit(scanner.feed(chunk), stats, kept)
+        try:
+            for chunk in _chunks(source, belt_rows):
+                if scanner is None:
+                    w = belt_width or (chunk.shape[1] if isinstance(chunk, np.ndarray) else None)
+                    scanner = LineScanner(
+                        w,
+                        model,
+                        max_height=max_height,
+                        min_area=min_area,
+                        threshold=threshold,
+                        polarity=polarity,
+                        contrast=contrast,
+                        nominal_size=nominal_size,
+                        size_tolerance=size_tolerance,
+                    )
+                _emit(scanner.feed(chunk), stats, kept)
+        except (TentaclassError, ValueError, OSError):
+            # report what the complete rows before the error hold, then the error
+            if scanner is not None:
+                _emit(scanner.flush(), stats, kept)
+            raise
         if scanner is None:
             raise TentaclassError("empty stream: no rows found")
         _emit(scanner.close(), stats, kept)
         rows, ignored = scanner.rows_seen, scanner.n_ignored
+        rule = scanner.threshold_
     except (TentaclassError, ValueError, OSError) as exc:
         raise click.ClickException(_one_line(exc)) from None
     finally:
@@ -270,13 +326,22 @@ def scan(
         "rejected": stats["rejected"],
         "classes": {k[6:]: v for k, v in sorted(stats.items()) if k.startswith("class:")},
         "defects": {k[7:]: v for k, v in sorted(stats.items()) if k.startswith("defect:")},
+        "threshold": rule.to_dict() if rule is not None else None,
     }
+    if not stats["objects"]:
+        how = rule.describe() if rule is not None else "no threshold"
+        click.echo(
+            f"no object found in {rows} rows ({how}); if the belt is not empty, "
+            "try --polarity or --threshold",
+            err=True,
+        )
     if summary == "json":
         click.echo(json.dumps({"summary": result}))
     else:
         classes = ", ".join(f"{k} {v}" for k, v in result["classes"].items()) or "none"
+        how = f"; {rule.describe()}" if rule is not None and rule.mode != "binary" else ""
         click.echo(
             f"scanned {rows} rows: {result['objects']} objects, {result['accepted']} accepted, "
-            f"{result['rejected']} rejected ({classes})",
+            f"{result['rejected']} rejected ({classes}){how}",
             err=True,
         )

@@ -11,6 +11,12 @@ chains the whole transform - cumulative sum, ramp and DFT - folds into one
 ``(n, 2 * n_coeffs)`` weight matrix: a batch costs one matrix product plus a
 magnitude, which beats ``numpy.fft`` on the batch for small ``n``
 (see ``benchmarks/bench_fourier.py``). Long chains use the FFT.
+
+Threads: the product uses as many BLAS threads as the BLAS library is set to;
+set them with threadpoolctl, e.g. ``with threadpool_limits(1, user_api="blas"):``.
+Chains of up to 32 joints always use one thread: such a thin product runs at
+memory speed and extra threads only cost (ten times, measured, on a busy
+two-core machine).
 """
 
 from __future__ import annotations
@@ -18,7 +24,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import lru_cache
 
+import numba as nb
 import numpy as np
+from threadpoolctl import ThreadpoolController
 
 from .._dask import blockwise
 from .._typing import ArrayLike, FloatArray
@@ -31,8 +39,13 @@ __all__ = ["dft_layer", "fourier_features"]
 #: Chosen by measurement (benchmarks/bench_fourier.py).
 MATMUL_MAX_JOINTS = 128
 
-#: Rows per block in the matrix-product path: keeps each block in cache.
-_BLOCK_ROWS = 2048
+#: Rows per block in the matrix-product path: large enough that a multi-threaded
+#: BLAS pays off (with 2048-row blocks two OpenBLAS threads made it 7 x slower
+#: than one on a loaded machine), small enough to bound the temporary.
+_BLOCK_ROWS = 16384
+
+#: Up to this many joints the product runs on one BLAS thread (see _features_matmul).
+_ONE_THREAD_MAX_JOINTS = 32
 
 
 def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
@@ -121,6 +134,30 @@ def _features_matmul(
     out: FloatArray,
 ) -> None:
     weights, flipped, offset = _folded_weights(q.shape[1], n_coeffs, detrend, period)
+    if q.shape[1] <= _ONE_THREAD_MAX_JOINTS:
+        # A product this thin runs at memory speed; BLAS threads only add overhead
+        # (at n = 16, two OpenBLAS threads made it 10 x slower on a busy machine).
+        with _blas_controller().limit(limits=1, user_api="blas"):
+            _matmul_blocks(q, weights, flipped, offset, n_coeffs, canonicalize, out)
+    else:
+        _matmul_blocks(q, weights, flipped, offset, n_coeffs, canonicalize, out)
+
+
+@lru_cache(maxsize=1)
+def _blas_controller() -> ThreadpoolController:
+    """One controller per process: creating it scans the loaded libraries (ms)."""
+    return ThreadpoolController()
+
+
+def _matmul_blocks(
+    q: FloatArray,
+    weights: FloatArray,
+    flipped: FloatArray,
+    offset: FloatArray,
+    n_coeffs: int,
+    canonicalize: bool,
+    out: FloatArray,
+) -> None:
     for lo in range(0, q.shape[0], _BLOCK_ROWS):
         block = q[lo : lo + _BLOCK_ROWS]
         z = block @ weights
@@ -128,14 +165,22 @@ def _features_matmul(
             cw = z[:, -1] < 0
             if cw.any():
                 z[cw, :-1] = block[cw] @ flipped
-        z = z[:, :-1]
-        z -= offset
-        z *= z
-        o = out[lo : lo + _BLOCK_ROWS]
-        # sqrt(re^2 + im^2) in place: np.hypot is several times slower and the
-        # overflow it guards against cannot happen with finite angles.
-        np.add(z[:, :n_coeffs], z[:, n_coeffs:], out=o)
-        np.sqrt(o, out=o)
+        # |re + i im| with the offset taken off, in one compiled pass over the block
+        _magnitudes(z, offset, n_coeffs, out[lo : lo + _BLOCK_ROWS])
+
+
+@nb.njit(cache=True, nogil=True, boundscheck=False)
+def _magnitudes(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> None:
+    """``out = |(z[:, :k] - offset[:k]) + i (z[:, k:2k] - offset[k:])|``.
+
+    sqrt of the sum of squares: np.hypot is several times slower and the
+    overflow it guards against cannot happen with finite angles.
+    """
+    for i in range(z.shape[0]):
+        for j in range(k):
+            re = z[i, j] - offset[j]
+            im = z[i, k + j] - offset[k + j]
+            out[i, j] = np.sqrt(re * re + im * im)
 
 
 def _features_fft(

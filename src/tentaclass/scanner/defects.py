@@ -21,20 +21,19 @@ and deep enough (see :class:`DefectSettings`).
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
-from functools import lru_cache
-from itertools import combinations
 
+import numba as nb
 import numpy as np
 import shapely
 from scipy import ndimage
 
-from .descriptors import Geometry
+from ._geometry import label_runs
+from .descriptors import Geometry, pixel_hull
 from .records import Defect
 
 __all__ = ["DefectSettings", "expected_outline", "find_defects"]
-
-_EIGHT = np.ones((3, 3), dtype=bool)
 
 
 @dataclass(frozen=True)
@@ -99,9 +98,47 @@ class DefectSettings:
         return min(self.min_depth, max(1.0, 0.2 * object_width))
 
 
-@lru_cache(maxsize=64)
-def _triples(m: int) -> np.ndarray:
-    return np.array(list(combinations(range(m), 3)), dtype=np.intp).reshape(-1, 3)
+@nb.njit(cache=True, nogil=True)
+def _meet(normal: np.ndarray, c: np.ndarray, i: int, j: int) -> tuple[float, float]:
+    """Where the lines ``normal[i] . p = c[i]`` and ``normal[j] . p = c[j]`` cross."""
+    det = normal[i, 0] * normal[j, 1] - normal[i, 1] * normal[j, 0]
+    x = (c[i] * normal[j, 1] - c[j] * normal[i, 1]) / det
+    y = (normal[i, 0] * c[j] - normal[j, 0] * c[i]) / det
+    return x, y
+
+
+@nb.njit(cache=True, nogil=True)
+def _best_triangle(normal: np.ndarray, c: np.ndarray, theta: np.ndarray) -> tuple:
+    """Smallest triangle on three of the lines whose normals span less than pi each.
+
+    Triples are tried in lexicographic order and the first smallest kept;
+    returns its index (-1 if no triple qualifies) and vertices.
+    """
+    m = c.shape[0]
+    best = np.inf
+    k = -1
+    n = 0
+    tri = np.zeros((3, 2))
+    for i in range(m):
+        for j in range(i + 1, m):
+            for q in range(j + 1, m):
+                if not (
+                    theta[j] - theta[i] < np.pi - 1e-6
+                    and theta[q] - theta[j] < np.pi - 1e-6
+                    and 2 * np.pi - (theta[q] - theta[i]) < np.pi - 1e-6
+                ):
+                    continue
+                ax, ay = _meet(normal, c, i, j)
+                bx, by = _meet(normal, c, j, q)
+                vx, vy = _meet(normal, c, q, i)
+                area = 0.5 * np.abs((bx - ax) * (vy - ay) - (by - ay) * (vx - ax))
+                if area < best:
+                    best, k = area, n
+                    tri[0, 0], tri[0, 1] = ax, ay
+                    tri[1, 0], tri[1, 1] = bx, by
+                    tri[2, 0], tri[2, 1] = vx, vy
+                n += 1
+    return k, tri
 
 
 def _enclosing_triangle(hull: shapely.Polygon) -> shapely.Polygon:
@@ -128,39 +165,13 @@ def _enclosing_triangle(hull: shapely.Polygon) -> shapely.Polygon:
     # The sides lie on long edges: search the 12 longest, in ring order.
     top = np.sort(np.argsort(-length, kind="stable")[:12])
     normal, c, theta = normal[top], c[top], theta[top]
-    m = len(top)
-    t = _triples(m)
-    th = theta[t]
-    gaps = np.stack(
-        [th[:, 1] - th[:, 0], th[:, 2] - th[:, 1], 2 * np.pi - (th[:, 2] - th[:, 0])], axis=1
-    )
-    t = t[np.all(gaps < np.pi - 1e-6, axis=1)]
-    if len(t) == 0:
-        return hull
-
-    def meet(i: np.ndarray, j: np.ndarray) -> np.ndarray:
-        ni, nj = normal[i], normal[j]
-        det = ni[:, 0] * nj[:, 1] - ni[:, 1] * nj[:, 0]
-        x = (c[i] * nj[:, 1] - c[j] * ni[:, 1]) / det
-        y = (ni[:, 0] * c[j] - nj[:, 0] * c[i]) / det
-        return np.stack([x, y], axis=1)
-
-    a, b, v = meet(t[:, 0], t[:, 1]), meet(t[:, 1], t[:, 2]), meet(t[:, 2], t[:, 0])
-    area = 0.5 * np.abs(
-        (b[:, 0] - a[:, 0]) * (v[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (v[:, 0] - a[:, 0])
-    )
-    k = int(np.argmin(area))
-    return shapely.Polygon([a[k], b[k], v[k]])
+    k, tri = _best_triangle(normal, c, theta)
+    return shapely.Polygon(tri) if k >= 0 else hull
 
 
 def _centre_hull(core: np.ndarray) -> shapely.Geometry:
     """Hull of the pixel centres of the object's core (burrs opened away)."""
-    rows = np.nonzero(core.any(axis=1))[0]
-    sub = core[rows]
-    first = sub.argmax(axis=1)
-    last = core.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
-    pts = np.stack([np.concatenate([first, last]), np.concatenate([rows, rows])], axis=1)
-    return shapely.convex_hull(shapely.multipoints(pts.astype(float)))
+    return pixel_hull(core, corners=False)
 
 
 def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:
@@ -220,20 +231,32 @@ def _signed_distance(
     p, d, length = xy[:-1][keep], d[keep], length[keep]
     nx, ny = d[:, 1] / length, -d[:, 0] / length  # outward normals of a CCW ring
     c = nx * p[:, 0] + ny * p[:, 1]
-    # c - n.(x, y) per edge, separable in rows and columns; minimum over edges
-    across = c[:, None] - nx[:, None] * cols  # (n_edges, n_cols)
-    down = ny[:, None] * rows[:, 0]  # (n_edges, n_rows)
-    return (across[:, None, :] - down[:, :, None]).min(axis=0)
+    return _edge_distance(c, nx, ny, rows[:, 0], cols[0])
 
 
-def _components(region: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+@nb.njit(cache=True, nogil=True)
+def _edge_distance(
+    c: np.ndarray, nx: np.ndarray, ny: np.ndarray, rows: np.ndarray, cols: np.ndarray
+) -> np.ndarray:
+    """``min over edges of (c - nx * col) - ny * row`` at every canvas pixel."""
+    out = np.empty((rows.shape[0], cols.shape[0]))
+    for i in range(rows.shape[0]):
+        for j in range(cols.shape[0]):
+            best = np.inf
+            for e in range(c.shape[0]):
+                v = (c[e] - nx[e] * cols[j]) - ny[e] * rows[i]
+                if v < best:
+                    best = v
+            out[i, j] = best
+    return out
+
+
+def _components(region: np.ndarray, eight: bool = True) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(rows, cols)`` of each 8- (or 4-) connected group, numbered as ndimage.label does."""
     if not region.any():
         return []
-    lab, n = ndimage.label(region, _EIGHT)
-    if n == 0:
-        return []
-    idx = ndimage.value_indices(lab, ignore_value=0)
-    return [idx[k] for k in range(1, n + 1)]
+    rr, cc, starts = label_runs(region, eight)
+    return [(rr[a:b], cc[a:b]) for a, b in itertools.pairwise(starts.tolist())]
 
 
 def _box(rr: np.ndarray, cc: np.ndarray) -> tuple[int, int, int, int]:
@@ -316,13 +339,14 @@ def find_defects(
         else np.empty((0, 2))
     )
     corner_radius = min(3.0, max(1.0, 0.1 * g.length))
-    in_grid = np.ones(shape, dtype=bool)
-    if extent is not None:
-        rows = np.arange(shape[0])[:, None] + lo[0]
-        cols = np.arange(shape[1])[None, :] + lo[1]
-        in_grid = (
-            (rows >= extent[0]) & (rows < extent[2]) & (cols >= extent[1]) & (cols < extent[3])
-        )
+
+    def inside_grid(rr: np.ndarray, cc: np.ndarray) -> bool:
+        """Whether all these canvas pixels lie inside the grid (or belt)."""
+        if extent is None:
+            return True
+        r, c = rr + lo[0], cc + lo[1]
+        return bool(np.all((r >= extent[0]) & (r < extent[2]) & (c >= extent[1]) & (c < extent[3])))
+
     missing = (sd >= s.margin) & ~filled
     extra = mask & (sd < -(1.0 + s.margin))
     gap = None
@@ -348,7 +372,7 @@ def find_defects(
             cen = (float(rr.mean() + lo[0]), float(cc.mean() + lo[1]))
             if kind_group == "extra":
                 kind, note = "burr", f"extra material, {len(rr)} px"
-            elif len(rr) >= 0.2 * exp_area or not in_grid[rr, cc].all():
+            elif len(rr) >= 0.2 * exp_area or not inside_grid(rr, cc):
                 kind, note = "truncated", f"part missing, {len(rr)} px"
             elif (
                 len(vertices)
@@ -366,8 +390,4 @@ def find_defects(
 
 
 def _components_4(region: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    lab, n = ndimage.label(region)
-    if n == 0:
-        return []
-    idx = ndimage.value_indices(lab, ignore_value=0)
-    return [idx[k] for k in range(1, n + 1)]
+    return _components(region, eight=False)

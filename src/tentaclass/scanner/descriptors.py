@@ -40,14 +40,13 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from scipy import ndimage
 from skimage.measure import regionprops
-from skimage.morphology import disk
 
 from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
+from ._geometry import fill_holes, mask_hull, max_distance_outside, opening_cross
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -87,31 +86,31 @@ class Geometry:
     orientation: float
 
 
-def _row_extremes(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rows = np.nonzero(mask.any(axis=1))[0]
-    sub = mask[rows]
-    first = sub.argmax(axis=1)
-    last = mask.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
-    return rows, first, last
+def _hull_coords(mask: np.ndarray, corners: bool = True) -> np.ndarray:
+    """Closed ring of the hull of the pixel squares (``corners``) or centres, as GEOS orders it."""
+    return mask_hull(mask, corners)
+
+
+def _as_geometry(ring: np.ndarray) -> shapely.Geometry:
+    """A hull ring from :func:`_hull_coords` as shapely would return the hull."""
+    if len(ring) >= 4:
+        return shapely.polygons(ring)
+    return shapely.linestrings(ring) if len(ring) == 2 else shapely.points(ring[0])
 
 
 def pixel_hull(mask: np.ndarray, *, corners: bool = True) -> shapely.Geometry:
     """Convex hull of the object's pixel squares (``corners``) or pixel centres.
 
-    Only the first and last pixel of each row can be hull vertices, so the hull
-    is built from at most ``4 * n_rows`` points.
+    The same geometry as :func:`shapely.convex_hull` of those points, from a
+    compiled monotone chain (much cheaper for small objects).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pixel_hull(np.ones((2, 3), dtype=bool)).bounds
+    (-0.5, -0.5, 2.5, 1.5)
     """
-    rows, first, last = _row_extremes(mask)
-    if corners:
-        x = np.concatenate([first - 0.5, first - 0.5, last + 0.5, last + 0.5])
-        y = np.concatenate([rows - 0.5, rows + 0.5, rows - 0.5, rows + 0.5])
-    else:
-        x = np.concatenate([first, last]).astype(float)
-        y = np.concatenate([rows, rows]).astype(float)
-    return shapely.convex_hull(shapely.multipoints(np.stack([x, y], axis=1)))
-
-
-_DISKS = {1: disk(1).astype(bool)}
+    return _as_geometry(_hull_coords(mask, corners))
 
 
 def opening_radius(width: float) -> int:
@@ -157,8 +156,9 @@ def measure(mask: np.ndarray) -> Geometry:
     >>> g.area, g.length, g.width, g.orientation
     (8, 4.0, 2.0, 0.0)
     """
-    filled = ndimage.binary_fill_holes(mask)
-    hull = pixel_hull(mask)
+    filled = fill_holes(mask)
+    ring = _hull_coords(mask)
+    hull = shapely.polygons(ring)
     rect = shapely.oriented_envelope(hull)
     l1, l2 = _sides(rect)
     core = filled
@@ -167,12 +167,11 @@ def measure(mask: np.ndarray) -> Geometry:
         # Thin burrs would stretch the hull: if the opening removed something that
         # sticks out of the opened shape's hull by more than 2 pixels (more than
         # the corners an opening rounds off), measure the shape without it.
-        opened = ndimage.binary_opening(filled, _DISKS[radius])
+        opened = opening_cross(filled)  # skimage's disk(1): the 3 x 3 cross
         if opened.any():
-            opened_hull = pixel_hull(opened)
-            tips = shapely.points(np.asarray(hull.exterior.coords)[:-1])
-            if shapely.distance(opened_hull, tips).max() > 2.0:
-                core, hull = opened, opened_hull
+            opened_ring = _hull_coords(opened)
+            if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
+                core, hull = opened, shapely.polygons(opened_ring)
                 rect = shapely.oriented_envelope(hull)
                 l1, l2 = _sides(rect)
     xy = np.asarray(rect.exterior.coords)[:4]

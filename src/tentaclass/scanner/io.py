@@ -7,12 +7,16 @@ Formats (detected from the first bytes unless given):
     them are ignored; empty lines and lines starting with ``#`` are skipped).
 ``pbm``
     Netpbm bitmap, plain (``P1``) or raw (``P4``); ``1`` (black) is object.
-``png``
-    A two-level image (grey or colour); the brighter level is object. It is
-    read whole (PNG cannot be streamed row by row with the libraries at hand).
+``png``, ``tiff``
+    A grey-level image of 1, 8 or 16 bits (colour is converted to 8-bit grey),
+    yielded as bool, uint8 or uint16 rows for the scanner to threshold. It is
+    read whole (these formats cannot be streamed row by row with the libraries
+    at hand).
 ``raw``
-    One byte per pixel, ``0`` or ``1``, rows of ``width`` bytes back to back,
-    no header (``width`` must be given).
+    Rows of ``width`` pixels back to back, no header (``width`` must be
+    given): one byte, ``0`` or ``1``, per pixel, or with ``dtype`` grey
+    levels of that type (e.g. ``uint8``, ``uint16``, ``float32``; little
+    endian) as a line camera delivers them.
 
 :func:`read_rows` yields chunks for :meth:`LineScanner.feed
 <tentaclass.scanner.LineScanner.feed>` as they are read, so a belt of any
@@ -34,17 +38,20 @@ from ..errors import InputError
 
 __all__ = ["FORMATS", "detect_format", "read_belt", "read_rows", "write_pbm", "write_text"]
 
-FORMATS: tuple[str, ...] = ("text", "pbm", "png", "raw")
+FORMATS: tuple[str, ...] = ("text", "pbm", "png", "tiff", "raw")
 """Input formats :func:`read_rows` understands."""
 
 _PNG_MAGIC = b"\x89PNG"
+_TIFF_MAGIC = (b"II*\x00", b"MM\x00*")
+RAW_DTYPES: tuple[str, ...] = ("uint8", "uint16", "float32", "float64")
+"""Pixel types of raw grey-level streams."""
 
 
 def detect_format(head: bytes, width: int | None = None) -> str:
     r"""Format of a stream from its first bytes.
 
-    ``P1``/``P4`` -> pbm, the PNG signature -> png, otherwise raw when a
-    ``width`` is given, else text.
+    ``P1``/``P4`` -> pbm, the PNG or TIFF signature -> png or tiff, otherwise
+    raw when a ``width`` is given, else text.
 
     Examples
     --------
@@ -59,6 +66,8 @@ def detect_format(head: bytes, width: int | None = None) -> str:
         )
     if head.startswith(_PNG_MAGIC):
         return "png"
+    if head.startswith(_TIFF_MAGIC):
+        return "tiff"
     return "raw" if width is not None else "text"
 
 
@@ -174,34 +183,67 @@ def _pbm_rows(fh: IO[bytes], width: int | None, chunk_rows: int) -> Iterator[np.
         yield img[i : i + chunk_rows]
 
 
-def _png_rows(fh: IO[bytes], chunk_rows: int) -> Iterator[np.ndarray]:
+def _image_rows(fh: IO[bytes], fmt: str, chunk_rows: int) -> Iterator[np.ndarray]:
     from PIL import Image
 
+    name = fmt.upper()
     try:
         with Image.open(fh) as im:
-            img = np.asarray(im.convert("L"))
-    except MemoryError:
+            mode = im.mode
+            if mode in ("1", "L", "I;16", "I;16L", "I;16B"):
+                img = np.asarray(im)
+            elif mode in ("RGB", "RGBA", "LA", "P", "CMYK", "YCbCr"):
+                img = np.asarray(im.convert("L"))
+            else:
+                depth = {"I": "32-bit integer", "F": "32-bit float"}.get(mode, f"mode {mode}")
+                raise InputError(
+                    f"cannot read the {name} image: {depth} pixels; "
+                    "expected a 1, 8 or 16-bit grey (or colour) image"
+                )
+    except (MemoryError, InputError):
         raise
     except Image.UnidentifiedImageError as exc:
-        raise InputError("cannot read the PNG image: not an image Pillow can identify") from exc
+        raise InputError(f"cannot read the {name} image: not an image Pillow can identify") from exc
     except Exception as exc:
-        # Pillow reports damaged PNGs as OSError, SyntaxError, zlib.error, ...
-        raise InputError(f"cannot read the PNG image: {type(exc).__name__}: {exc}") from exc
-    levels = np.unique(img)
-    if levels.size > 2:
-        raise InputError(f"the PNG image is not two-level: it has {levels.size} grey levels")
-    obj = img == levels[-1] if levels.size == 2 else np.zeros(img.shape, dtype=bool)
-    for i in range(0, obj.shape[0], chunk_rows):
-        yield obj[i : i + chunk_rows]
+        # Pillow reports damaged images as OSError, SyntaxError, zlib.error, ...
+        raise InputError(f"cannot read the {name} image: {type(exc).__name__}: {exc}") from exc
+    if img.ndim != 2:
+        raise InputError(f"cannot read the {name} image: shape {img.shape}, expected 2-D")
+    if img.dtype.byteorder == ">":
+        img = img.astype(img.dtype.newbyteorder("="))
+    for i in range(0, img.shape[0], chunk_rows):
+        yield img[i : i + chunk_rows]
 
 
-def _raw_rows(fh: IO[bytes], width: int, chunk_rows: int) -> Iterator[bytes]:
-    size = width * chunk_rows
+def _raw_rows(
+    fh: IO[bytes], width: int, chunk_rows: int, dtype: str | None
+) -> Iterator[bytes | np.ndarray]:
+    if dtype is None:
+        size = width * chunk_rows
+        while True:
+            data = fh.read(size)
+            if not data:
+                return
+            yield data
+    dt = np.dtype(dtype).newbyteorder("<")
+    row_bytes = width * dt.itemsize
+    rest, row = b"", 0
     while True:
-        data = fh.read(size)
+        data = fh.read(row_bytes * chunk_rows)
         if not data:
-            return
-        yield data
+            break
+        data = rest + data
+        n = len(data) // row_bytes
+        rest = data[n * row_bytes :]
+        if n:
+            rows = np.frombuffer(data[: n * row_bytes], dt).reshape(n, width)
+            yield rows.astype(dt.newbyteorder("="))
+            row += n
+    if rest:
+        raise InputError(
+            f"truncated stream: row {row} has only {len(rest)} of {row_bytes} bytes "
+            f"({width} pixels of {dt.name})"
+        )
 
 
 def read_rows(
@@ -210,6 +252,7 @@ def read_rows(
     fmt: str | None = None,
     width: int | None = None,
     chunk_rows: int = 1024,
+    dtype: str | None = None,
 ) -> Iterator[np.ndarray | bytes]:
     r"""Chunks of belt rows from a file or stream, as they are read.
 
@@ -217,17 +260,22 @@ def read_rows(
     ----------
     source : str, Path or binary file object
         Where to read; a file object is not closed.
-    fmt : {"text", "pbm", "png", "raw"}, optional
+    fmt : {"text", "pbm", "png", "tiff", "raw"}, optional
         Format; default detected from the first bytes (:func:`detect_format`).
     width : int, optional
         Pixels per row: required for raw bytes, checked for the others.
     chunk_rows : int, default=1024
         Rows per chunk.
+    dtype : {"uint8", "uint16", "float32", "float64"}, optional
+        Pixel type of raw grey-level input; without it raw input is one byte,
+        0 or 1, per pixel.
 
     Yields
     ------
-    chunk : ndarray of bool, shape (n_rows, width), or bytes
-        Raw input yields ``bytes`` (rows may be cut at chunk ends; the
+    chunk : ndarray of shape (n_rows, width), or bytes
+        bool for text and PBM, the image's type (bool, uint8 or uint16) for
+        PNG and TIFF, ``dtype`` for raw grey levels. Raw 0/1 input yields
+        ``bytes`` (rows may be cut at chunk ends; the
         :class:`~tentaclass.scanner.LineScanner` joins them and reports a
         truncated last row).
 
@@ -247,6 +295,8 @@ def read_rows(
         width = check_positive_int(width, "width")
     if fmt is not None and fmt not in FORMATS:
         raise InputError(f"fmt must be one of {list(FORMATS)}, got {fmt!r}")
+    if dtype is not None and dtype not in RAW_DTYPES:
+        raise InputError(f"dtype must be one of {list(RAW_DTYPES)}, got {dtype!r}")
     fh, owned = _open(source)
     try:
         head = fh.read(8) or b""
@@ -256,19 +306,29 @@ def read_rows(
             yield from _text_rows(stream, width, chunk_rows)
         elif fmt == "pbm":
             yield from _pbm_rows(stream, width, chunk_rows)
-        elif fmt == "png":
-            yield from _png_rows(stream, chunk_rows)
+        elif fmt in ("png", "tiff"):
+            for chunk in _image_rows(stream, fmt, chunk_rows):
+                if width is not None and chunk.shape[1] != width:
+                    raise InputError(
+                        f"the {fmt.upper()} image is {chunk.shape[1]} pixels wide, "
+                        f"but --width {width} was given"
+                    )
+                yield chunk
         else:
             if width is None:
                 raise InputError("raw input needs the row width (--width)")
-            yield from _raw_rows(stream, width, chunk_rows)
+            yield from _raw_rows(stream, width, chunk_rows, dtype)
     finally:
         if owned:
             fh.close()
 
 
-def read_belt(source: Any, *, fmt: str | None = None, width: int | None = None) -> np.ndarray:
-    """A whole belt image, shape (n_rows, width), bool (see :func:`read_rows`).
+def read_belt(
+    source: Any, *, fmt: str | None = None, width: int | None = None, dtype: str | None = None
+) -> np.ndarray:
+    """A whole belt image, shape (n_rows, width) (see :func:`read_rows`).
+
+    bool for binary formats, the pixel type for grey-level images and streams.
 
     Examples
     --------
@@ -276,7 +336,7 @@ def read_belt(source: Any, *, fmt: str | None = None, width: int | None = None) 
     >>> read_belt(io.BytesIO(bytes([0, 1, 1, 0, 1, 1])), width=3).astype(int).tolist()
     [[0, 1, 1], [0, 1, 1]]
     """
-    chunks = list(read_rows(source, fmt=fmt, width=width))
+    chunks = list(read_rows(source, fmt=fmt, width=width, dtype=dtype))
     if not chunks:
         raise InputError("empty stream: no rows found")
     if isinstance(chunks[0], bytes):

@@ -1,21 +1,24 @@
 """Streaming line scanner: rows from the sensor in, one record per object out.
 
-Each :meth:`LineScanner.feed` call labels the rows still needed (those of
-objects not yet complete) together with the new rows, with
-:func:`scipy.ndimage.label` (8-connected), and stitches across chunk
-boundaries by keeping, between calls, only the pixels of objects that touch
-the newest row. An object is complete - and is emitted - once a row arrives
-that holds none of its pixels. So memory is bounded by the tallest object (at
-most ``max_height`` rows) plus one chunk, not by the belt's length.
+Each row is thresholded, cut into runs of object pixels and joined to the runs
+of the row before (8-connected) by a union-find over run labels, in a compiled
+kernel (:mod:`~tentaclass.scanner._segment`); this is the classic run-length
+method of line-scan vision systems. An object is complete - and is emitted -
+once a row arrives that holds none of its pixels; only then are its pixels
+painted into a mask for classification and inspection. Memory holds only the
+runs of the objects in flight, never the belt.
 
-Results do not depend on how the rows are chunked: an object is emitted in the
-call that receives the row after its last row, and objects are numbered by
-``(last_row, first column, first_row)``, whether rows come one at a time or as
-a whole image. An object taller than ``max_height`` is cut when its
-``max_height + 1``-th row arrives: it is reported then, with a ``too_tall``
-defect and no class, and the rest of it is skipped (also any object that later
-joins it). The cut happens at that row for every chunking too: a chunk is
-split there before processing.
+Rows are processed one after the other whatever the chunking, so results never
+depend on it: an object is emitted in the call that receives the row after its
+last row (objects numbered by ``(last_row, first column, first_row)``), one
+row per call costs a few microseconds. An object taller than ``max_height`` is
+cut when its ``max_height + 1``-th row arrives and reported, from the call
+that receives the row after that, with a ``too_tall`` defect and no class; the
+rest of it is skipped (also any object that later joins it).
+
+Grey-level rows need a threshold (:mod:`~tentaclass.scanner.threshold`); what
+is not given is chosen from the first ``calibration_rows`` rows, which are
+held until then (bool rows and bytes are binary and need none).
 """
 
 from __future__ import annotations
@@ -24,19 +27,21 @@ from collections.abc import Iterable, Iterator
 from typing import Any
 
 import numpy as np
-from scipy import ndimage
 
 from .._validation import check_positive_int
 from ..errors import InputError
+from . import _segment as seg
 from .defects import DefectSettings
 from .descriptors import measure
 from .inspection import NominalSize, _check_options, inspect_masks
 from .model import ScannerModel
 from .records import Defect, Inspection, ScannedObject
+from .threshold import Threshold, belt_levels, check_options, choose_threshold
 
 __all__ = ["LineScanner"]
 
-_EIGHT = np.ones((3, 3), dtype=bool)
+_KERNEL_DTYPES = (np.uint8, np.uint16, np.float32, np.float64)
+_MODES = {"binary": 0, "fixed": 1, "adaptive": 2}
 
 
 class LineScanner:
@@ -56,25 +61,49 @@ class LineScanner:
         Objects with fewer pixels are ignored (not emitted, no id), e.g. the
         speckle of a noisy sensor; counted in ``n_ignored``. Objects reported
         ``too_tall`` are never ignored.
+    threshold : "auto", "binary", "fixed", "adaptive" or float, default="auto"
+        Which pixels are object (see :mod:`~tentaclass.scanner.threshold`):
+        ``"binary"`` rows of 0/1; a number: a fixed grey level; ``"fixed"``
+        or ``"adaptive"`` (a running belt level per column, for uneven
+        illumination) with the level or contrast chosen from the data;
+        ``"auto"``: binary for bool rows, bytes and rows of only 0 and 1,
+        else fixed or adaptive as the first rows require.
+    polarity : {"auto", "dark", "light"}, default="auto"
+        Objects darker or lighter than the belt (binary: object where 0 or
+        1); ``"auto"`` chooses from the first rows (binary: light).
+    contrast : float, optional
+        For grey rows: how far from the belt level an object pixel is at
+        least (default chosen from the first rows).
+    calibration_rows : int, default=64
+        Grey rows held back to choose what is ``"auto"``, when needed.
+    latency : int, default=0
+        Rows an object may wait after its last row before it is emitted: rows
+        fed in small chunks are staged and run through the kernel
+        ``latency // 2`` at a time, and the objects completed meanwhile are
+        measured and classified in one batch (much cheaper per row and per
+        object when rows come one per call). 0: every row is processed when
+        fed and an object is emitted in the call that receives the row after
+        its last row.
     nominal_size, size_tolerance, settings
         As in :func:`~tentaclass.scanner.inspect`.
 
     Attributes
     ----------
     rows_seen : int
-        Rows consumed so far.
+        Rows consumed so far (held calibration rows included).
     n_emitted : int
         Objects emitted so far.
-    n_ignored : int
-        Objects ignored as smaller than ``min_area``.
+    threshold_ : Threshold or None
+        The rule in use, once chosen (it is reported by ``tentaclass scan``).
 
     Notes
     -----
     Objects are 8-connected: pixels touching at a corner belong to one object.
     Rows are numpy arrays (``(width,)`` for one row, ``(n_rows, width)`` for
-    several) of bool or 0/1 numbers, or ``bytes`` with one byte (0 or 1) per
-    pixel; bytes may stop anywhere, even inside a row. A chunk holding a bad
-    row is refused as a whole with :class:`~tentaclass.errors.InputError`
+    several) of bool, integers or floats, or ``bytes`` with one byte (0 or 1)
+    per pixel; bytes may stop anywhere, even inside a row. A chunk holding a
+    bad row (wrong width or rank, not numbers, NaN, not 0/1 in a binary
+    stream) is refused as a whole with :class:`~tentaclass.errors.InputError`
     naming the row; the scanner is unchanged, objects already emitted stay
     emitted, and feeding may go on.
 
@@ -92,6 +121,17 @@ class LineScanner:
     [(1, 'rectangle', False, 1)]
     >>> scanner.close()
     []
+
+    Grey rows: a dark object on a belt lit unevenly from left to right.
+
+    >>> grey = 150 + 5 * np.arange(10) + np.zeros((30, 1))
+    >>> grey[:12][belt] = 30
+    >>> scanner = LineScanner(10)
+    >>> [o.label for o in scanner.scan(grey)]
+    ['square', 'rectangle']
+    >>> print(scanner.threshold_.describe())  # doctest: +NORMALIZE_WHITESPACE
+    dark objects, below the belt level of each column by more than 80
+    (adaptive threshold; belt 150 to 195)
     """
 
     def __init__(
@@ -101,6 +141,11 @@ class LineScanner:
         *,
         max_height: int = 1024,
         min_area: int = 1,
+        threshold: Any = "auto",
+        polarity: str = "auto",
+        contrast: float | None = None,
+        calibration_rows: int = 64,
+        latency: int = 0,
         nominal_size: NominalSize = None,
         size_tolerance: float = 0.1,
         settings: DefectSettings | None = None,
@@ -111,53 +156,80 @@ class LineScanner:
             model, settings, size_tolerance
         )
         self.min_area = check_positive_int(min_area, "min_area")
+        check_options(threshold, polarity, contrast)
+        self.threshold, self.polarity, self.contrast = threshold, polarity, contrast
+        self.calibration_rows = check_positive_int(calibration_rows, "calibration_rows")
+        self.latency = check_positive_int(latency, "latency", minimum=0)
+        # with a latency, rows fed one by one are staged and run through the
+        # kernel together; objects then wait at most the rest of the latency
+        self._stage_rows = max(1, self.latency // 2)
+        self._hold = self.latency - self._stage_rows if self.latency else 0
+        self._stage: np.ndarray | None = None
+        self._n_stage = 0
+        self._fast_dtype: np.dtype | None = None
+        self._row_shape = (self.width,)
         self.nominal_size = nominal_size
         self.rows_seen = 0
         self.n_emitted = 0
-        self.n_ignored = 0
-        self._buf = np.zeros((0, self.width), dtype=bool)
-        self._dead = np.zeros((0, self.width), dtype=bool)
+        self.threshold_: Threshold | None = None
+        self._held: list[np.ndarray] = []  # calibration rows
+        self._n_held = 0
+        self._held_back: list[tuple] = []  # too-tall records of the newest row
+        self._pools = seg.new_pools(self.width, 256, 4096)
+        self._bg = np.zeros(self.width, dtype=np.float64)
+        self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
+        self._done_rows = 0  # rows through the kernel
         self._partial = b""
         self._next_partial = b""
         self._closed = False
+        if not isinstance(threshold, str) and polarity != "auto":
+            self._resolve(None)
+        elif threshold == "binary":
+            self._resolve(None)
 
     # -- input -------------------------------------------------------------------------------
-    def _rows_from(self, rows: Any) -> np.ndarray:
-        """Validate one chunk into a bool array of shape (n, width)."""
-        if isinstance(rows, bytes | bytearray | memoryview):
-            data = self._partial + bytes(rows)
-            n = len(data) // self.width
-            arr = np.frombuffer(data[: n * self.width], dtype=np.uint8).reshape(n, self.width)
-            bad = arr > 1
-            if bad.any():
-                i, j = np.argwhere(bad)[0]
-                hint = (
-                    f" (the character {chr(arr[i, j])!r}: text rows? use --format text)"
-                    if arr[i, j] in (48, 49)
-                    else ""
-                )
+    def _bytes_rows(self, rows: bytes | bytearray | memoryview) -> np.ndarray:
+        data = self._partial + bytes(rows)
+        n = len(data) // self.width
+        arr = np.frombuffer(data[: n * self.width], dtype=np.uint8).reshape(n, self.width)
+        if arr.size and arr.max() > 1:
+            i, j = np.argwhere(arr > 1)[0]
+            hint = (
+                f" (the character {chr(arr[i, j])!r}: text rows? use --format text)"
+                if arr[i, j] in (48, 49)
+                else ""
+            )
+            raise InputError(
+                f"row {self.rows_seen + i}, column {j}: byte value {arr[i, j]}, "
+                f"expected 0 or 1{hint}"
+            )
+        self._next_partial = data[n * self.width :]
+        return arr
+
+    def _array_rows(self, rows: Any) -> np.ndarray:
+        """Validate one chunk of arrays into a kernel-ready (n, width) array."""
+        if isinstance(rows, np.ndarray) and rows.dtype.kind in "buif":
+            arr = rows
+        else:
+            try:
+                arr = np.asarray(rows)
+            except (ValueError, TypeError):
+                arr = None
+            if arr is None or arr.dtype == object:
+                lens = []
+                for r in rows:
+                    try:
+                        lens.append(len(np.atleast_1d(np.asarray(r, dtype=float))))
+                    except (TypeError, ValueError):
+                        lens.append(-1)
+                bad = [k for k, n in enumerate(lens) if n != self.width]
+                if bad:
+                    i = bad[0]
+                    what = "does not hold numbers" if lens[i] < 0 else f"has {lens[i]} pixels"
+                    raise InputError(f"row {self.rows_seen + i} {what}, expected {self.width}")
                 raise InputError(
-                    f"row {self.rows_seen + i}, column {j}: byte value {arr[i, j]}, "
-                    f"expected 0 or 1{hint}"
+                    f"row {self.rows_seen}: rows must hold numbers or bool, got Python objects"
                 )
-            self._next_partial = data[n * self.width :]
-            return arr.astype(bool)
-        self._next_partial = self._partial
-        if self._partial:
-            raise InputError(
-                f"row {self.rows_seen} is incomplete ({len(self._partial)} of {self.width} "
-                "bytes); finish it with bytes before feeding arrays"
-            )
-        try:
-            arr = np.asarray(rows)
-        except ValueError:
-            arr = None
-        if arr is None or arr.dtype == object:
-            lens = [len(np.atleast_1d(r)) for r in rows]
-            i = next(k for k, n in enumerate(lens) if n != self.width)
-            raise InputError(
-                f"row {self.rows_seen + i} has {lens[i]} pixels, expected {self.width}"
-            )
         if arr.ndim == 1:
             arr = arr[None, :]
         if arr.ndim != 2:
@@ -168,17 +240,34 @@ class LineScanner:
             raise InputError(
                 f"row {self.rows_seen} has {arr.shape[1]} pixels, expected {self.width}"
             )
-        if arr.dtype == bool:
+        kind = arr.dtype.kind
+        if kind == "b":
+            return arr.view(np.uint8)
+        if kind not in "iuf":
+            raise InputError(f"rows must hold numbers or bool, got dtype {arr.dtype}")
+        if kind == "f":
+            finite = np.isfinite(arr)
+            if not finite.all():
+                i, j = np.argwhere(~finite)[0]
+                value = arr[i, j].item()
+                raise InputError(
+                    f"row {self.rows_seen + i}, column {j}: value {value!r} is not finite"
+                )
+        t = self.threshold_
+        if t is not None and t.mode == "binary":
+            ok = (arr == 0) | (arr == 1)
+            if not ok.all():
+                i, j = np.argwhere(~ok)[0]
+                raise InputError(
+                    f"row {self.rows_seen + i}, column {j}: value {arr[i, j].item()!r}, "
+                    "expected 0 or 1 (binary rows)"
+                )
+            return arr if arr.dtype == np.uint8 else arr.astype(np.uint8)
+        if arr.dtype.type in _KERNEL_DTYPES:
             return arr
-        if not np.issubdtype(arr.dtype, np.number):
-            raise InputError(f"rows must hold 0/1 or bool values, got dtype {arr.dtype}")
-        ok = (arr == 0) | (arr == 1)
-        if not ok.all():
-            i, j = np.argwhere(~ok)[0]
-            raise InputError(
-                f"row {self.rows_seen + i}, column {j}: value {arr[i, j].item()!r}, expected 0 or 1"
-            )
-        return arr.astype(bool)
+        if kind in "iu" and arr.size and arr.min() >= 0 and arr.max() <= 65535:
+            return arr.astype(np.uint16)
+        return arr.astype(np.float64)
 
     # -- processing --------------------------------------------------------------------------
     def feed(self, rows: Any) -> list[ScannedObject]:
@@ -194,11 +283,136 @@ class LineScanner:
         objects : list of ScannedObject
             Objects whose last row has passed, in id order.
         """
+        fast = self._fast_dtype
+        if (
+            fast is not None
+            and type(rows) is np.ndarray
+            and rows.dtype == fast
+            and rows.shape == self._row_shape
+            and not self._partial
+        ):
+            # one row of a type that needs no checks, to the stage (a camera's case)
+            self._stage[self._n_stage] = rows
+            self._n_stage += 1
+            self.rows_seen += 1
+            return self._drain() if self._n_stage == self._stage_rows else []
         if self._closed:
             raise InputError("the scanner is closed: create a new one for a new stream")
-        new = self._rows_from(rows)
+        if isinstance(rows, bytes | bytearray | memoryview):
+            arr = self._bytes_rows(rows)
+            binary = True
+        else:
+            self._next_partial = self._partial
+            if self._partial:
+                raise InputError(
+                    f"row {self.rows_seen} is incomplete ({len(self._partial)} of {self.width} "
+                    "bytes); finish it with bytes before feeding arrays"
+                )
+            binary = isinstance(rows, np.ndarray) and rows.dtype == bool
+            arr = self._array_rows(rows)
         self._partial = self._next_partial
-        return self._consume(new, final=False)
+        if arr.shape[0] == 0:
+            return []
+        self.rows_seen += arr.shape[0]
+        if self.threshold_ is None:
+            if binary and self.threshold == "auto":
+                self._resolve(None, binary=True)
+            else:
+                self._held.append(arr)
+                self._n_held += arr.shape[0]
+                if self._n_held < self.calibration_rows:
+                    return []
+                arr = self._release()
+        if self.latency and (self._n_stage or arr.shape[0] < self._stage_rows):
+            return self._staged(arr)
+        return self._run(arr)
+
+    def _staged(self, arr: np.ndarray) -> list[ScannedObject]:
+        """Copy rows to the stage; run the kernel on it whenever it is full."""
+        out = []
+        if self._stage is None or self._stage.dtype != arr.dtype:
+            out += self._drain()
+            self._stage = np.empty((self._stage_rows, self.width), dtype=arr.dtype)
+            # rows of this type go to the stage unchecked: bool for binary rows,
+            # integers for grey ones (any value is valid, none is NaN)
+            binary = self.threshold_.mode == "binary"
+            self._fast_dtype = (
+                np.dtype(bool)
+                if binary and arr.dtype == np.uint8
+                else arr.dtype
+                if not binary and arr.dtype in (np.uint8, np.uint16)
+                else None
+            )
+        i = 0
+        while i < arr.shape[0]:
+            k = min(arr.shape[0] - i, self._stage_rows - self._n_stage)
+            self._stage[self._n_stage : self._n_stage + k] = arr[i : i + k]
+            self._n_stage += k
+            i += k
+            if self._n_stage == self._stage_rows:
+                out += self._drain()
+        return out
+
+    def _drain(self) -> list[ScannedObject]:
+        """Run the staged rows through the kernel."""
+        if not self._n_stage:
+            return []
+        rows, self._n_stage = self._stage[: self._n_stage], 0
+        return self._run(rows)
+
+    def _release(self) -> np.ndarray:
+        """The rows held for calibration, with the threshold now chosen from them."""
+        held = self._held
+        arr = held[0] if len(held) == 1 else np.concatenate(held)
+        if arr.dtype.type not in _KERNEL_DTYPES:
+            arr = arr.astype(np.float64)
+        self._held, self._n_held = [], 0
+        self._resolve(arr[: self.calibration_rows])  # the same rows for any chunking
+        return arr
+
+    def _resolve(self, sample: np.ndarray | None, binary: bool = False) -> None:
+        """Fix the threshold rule, from ``sample`` rows for what is "auto"."""
+        if sample is None:
+            if binary or self.threshold == "binary":
+                pol = "light" if self.polarity == "auto" else self.polarity
+                t = Threshold("binary", pol, 0.5, 0.5, (0.0, 0.0))
+            else:
+                level = float(self.threshold)
+                t = Threshold("fixed", self.polarity, level, 0.0, (level, level))
+        else:
+            t = choose_threshold(sample, self.threshold, self.polarity, self.contrast)
+            if t.mode == "adaptive":
+                self._bg[:] = belt_levels(sample, t.polarity, t.contrast)
+        self.threshold_ = t
+        self._rule = (_MODES[t.mode], t.polarity == "dark", t.level, t.contrast, t.rate)
+
+    def flush(self) -> list[ScannedObject]:
+        """Process the rows held for calibration now; return the objects complete so far.
+
+        The threshold is then chosen from fewer rows than ``calibration_rows``,
+        and objects waiting for their ``latency`` are emitted. Useful when a
+        stream stops early (e.g. on bad input) to report what was complete
+        before.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> grey = np.full((6, 5), 200, dtype=np.uint8)
+        >>> grey[1:4, 1:4] = 10
+        >>> scanner = LineScanner(5)
+        >>> scanner.feed(grey), [o.label for o in scanner.flush()]
+        ([], ['square'])
+        """
+        if self._closed:
+            return []
+        out = self._run(self._release()) if self._held else []
+        out += self._drain()
+        hold, self._hold = self._hold, 0
+        try:
+            out += self._records([], final=False) if self._held_back else []
+        finally:
+            self._hold = hold
+        return out
 
     def close(self) -> list[ScannedObject]:
         """End the stream: emit the objects still open at its last row.
@@ -218,9 +432,14 @@ class LineScanner:
             )
         if self.rows_seen == 0:
             raise InputError("empty stream: no rows were fed")
-        out = self._consume(np.zeros((0, self.width), dtype=bool), final=True)
+        out = self._run(self._release()) if self._held else []
+        out += self._drain()
+        out += self._run(None)
         self._closed = True
-        self._buf = self._dead = np.zeros((0, self.width), dtype=bool)
+        self._fast_dtype = None
+        ignored = self.n_ignored
+        self._pools = seg.new_pools(self.width, 1, 1)  # free the pools
+        self._pools["st"][seg.S_IGNORED] = ignored
         return out
 
     def scan(self, chunks: Iterable[Any]) -> Iterator[ScannedObject]:
@@ -239,154 +458,108 @@ class LineScanner:
         yield from self.close()
 
     @property
+    def n_ignored(self) -> int:
+        """Objects ignored as smaller than ``min_area``."""
+        return int(self._pools["st"][seg.S_IGNORED])
+
+    @property
     def pending_rows(self) -> int:
-        """Rows held in memory for objects not yet complete."""
-        return self._buf.shape[0]
+        """Rows spanned by the objects in flight (plus rows held for calibration)."""
+        labs = self._pools["labs"]
+        idx = np.arange(labs.shape[0])
+        live = (labs[:, seg.PARENT] == idx) & (labs[:, seg.STATUS] == seg.OPEN)
+        live &= labs[:, seg.RHEAD] != -1
+        first = labs[live, seg.FIRST]
+        waiting = self._n_held + self._n_stage
+        return (self._done_rows - int(first.min()) if first.size else 0) + waiting
 
-    def _label(self, new: np.ndarray) -> tuple:
-        """Label the kept rows plus ``new``, skipping runs of empty rows.
+    def _run(self, arr: np.ndarray | None) -> list[ScannedObject]:
+        """Push rows (None: the end of the stream) through the kernel; build the records."""
+        p = self._pools
+        final = arr is None
+        if final:
+            arr = np.zeros((0, self.width), dtype=np.uint8)
+        mode, dark, level, contrast, rate = self._rule
+        if mode == 0 and dark:
+            arr = (arr == 0).view(np.uint8)
+            dark = False
+        found: list[tuple] = []
+        start, n = 0, arr.shape[0]
+        while True:
+            done = seg.scan_rows(
+                arr[start:] if start else arr, self._done_rows, mode, dark, level, contrast,
+                rate, self._bg, self.max_height, self.min_area, final,
+                p["st"], p["prev"], p["cur"], p["labs"], p["runs"], p["out"], p["out_runs"],
+                p["done"],
+            )  # fmt: skip
+            self._done_rows += done
+            start += done
+            st = p["st"]
+            if st[seg.S_NOUT]:
+                found += self._collect(int(st[seg.S_NOUT]))
+                st[seg.S_NOUT] = 0
+                st[seg.S_NOUT_RUNS] = 0
+            elif not final and start < n:
+                seg.grow(p, self.width)
+                p = self._pools
+            if final or start >= n:
+                break
+        if not found and (
+            not self._held_back
+            or (
+                not final
+                and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self._hold
+            )
+        ):
+            return []
+        return self._records(found, final)
 
-        Objects cannot span an empty row, so all but the first row of each run
-        of empty rows is dropped before labelling (kept: the last row, which
-        decides what is still open). On a quiet belt this skips most of the
-        image. Returns the buffer height, the labels of the kept rows, their
-        row numbers in the buffer, per object the (labels slice, first row,
-        stop row) and the labels of already reported (dead) objects.
-        """
-        buf = np.concatenate([self._buf, new]) if self._buf.size else new
-        h = buf.shape[0]
-        busy = buf.any(axis=1)
-        keep = busy.copy()
-        keep[1:] |= busy[:-1]
-        keep[-1] = True
-        rows = np.flatnonzero(keep)
-        sub = buf[rows] if rows.size < h else buf
-        lab, _ = ndimage.label(sub, _EIGHT)
-        objs = [
-            (sl, int(rows[sl[0].start]), int(rows[sl[0].stop - 1]) + 1)
-            for sl in ndimage.find_objects(lab)
-        ]
-        dead_labels: set[int] = set()
-        if self._dead.any():
-            # Dead pixels only ever sit in the last kept row of the previous call.
-            r = int(np.searchsorted(rows, self._dead.shape[0] - 1))
-            dead_labels = set(np.unique(lab[r][self._dead[-1]]).tolist())
-        return h, lab, rows, objs, dead_labels
+    def _collect(self, n_out: int) -> list[tuple]:
+        """Masks of the objects the kernel output: (sort key, kind, mask, top, left)."""
+        p = self._pools
+        out, out_runs = p["out"][:n_out], p["out_runs"]
+        items = []
+        for kind, first, last, minc, _area, a, b in out.tolist():
+            cols = out_runs[a:b, 2]
+            maxc = int(cols.max())
+            mask = seg.paint(out_runs, a, b, first, minc, last - first + 1, maxc - minc)
+            items.append(((last, minc, first), kind, mask, first, minc))
+        return items
 
-    def _first_live_row(self, labelled: tuple, k: int) -> int | None:
-        """First buffer row of object ``k``'s pixels that are not already reported."""
-        _, lab, rows, objs, dead_labels = labelled
-        sl, r0, _ = objs[k - 1]
-        if k not in dead_labels:
-            return r0
-        part = lab[sl] == k
-        r = int(np.searchsorted(rows, self._dead.shape[0] - 1)) - sl[0].start
-        if 0 <= r < part.shape[0]:
-            part[r] &= ~self._dead[-1][sl[1]]
-        live = np.flatnonzero(part.any(axis=1))
-        return int(rows[sl[0].start + live[0]]) if live.size else None
-
-    def _consume(self, new: np.ndarray, final: bool) -> list[ScannedObject]:
-        out: list[ScannedObject] = []
-        while self._buf.shape[0] + new.shape[0] > 0:
-            old = self._buf.shape[0]
-            labelled = self._label(new)
-            h, objs = labelled[0], labelled[3]
-            # Split at the first row where 1-row-at-a-time feeding could cut a tall
-            # object: its first not yet reported row + max_height. Splitting more
-            # often than needed is harmless; missing a cut is not (an object may
-            # join an already reported one below the cut and vanish with it).
-            cut = h - 1
-            for k, (_, r0, r1) in enumerate(objs, 1):
-                if r1 - r0 > self.max_height:
-                    first = self._first_live_row(labelled, k)
-                    if first is not None and r1 - first > self.max_height:
-                        cut = min(cut, first + self.max_height)
-            if cut < h - 1:
-                take = cut + 1 - old
-                self.rows_seen += take
-                out += self._step(self._label(new[:take]), final=False)
-                new = new[take:]
-                continue
-            self.rows_seen += new.shape[0]
-            out += self._step(labelled, final)
-            break
-        return out
-
-    def _step(self, labelled: tuple, final: bool) -> list[ScannedObject]:
-        """Emit the complete objects of a labelled buffer and keep the open ones."""
-        h, lab, rows, objs, dead_set = labelled
-        # rows_seen already counts every row of the buffer; its row 0 is global row `base`.
-        base = self.rows_seen - h
-        done, tall, keep_live, keep_dead = [], [], [], []
-        for k, (sl, r0, r1) in enumerate(objs, 1):
-            is_open = r1 == h and not final
-            if k in dead_set:
-                if is_open:
-                    keep_dead.append(k)
-                continue
-            if r1 - r0 > self.max_height:
-                tall.append((k, sl, r0))
-                if is_open:
-                    keep_dead.append(k)
-            elif is_open:
-                keep_live.append(k)
-            else:
-                done.append((k, sl, r0))
-        records = self._records(lab, done, tall, base)
-        # Keep the rows of the open objects; of dead (already reported) ones only the last row.
-        start = min((objs[k - 1][1] for k in keep_live), default=h - 1)
-        self._buf = np.zeros((h - start, self.width), dtype=bool)
-        first = int(np.searchsorted(rows, start))
-        if keep_live:
-            self._buf[rows[first:] - start] = np.isin(lab[first:], keep_live)
-        self._dead = np.zeros_like(self._buf)
-        if keep_dead:
-            self._dead[-1] = np.isin(lab[-1], keep_dead)
-            self._buf[-1] |= self._dead[-1]
-        return records
-
-    def _records(self, lab: np.ndarray, done: list, tall: list, base: int) -> list[ScannedObject]:
-        items = []  # (sort key, kind, label, slice of lab, first row in the buffer)
-        for kind, group in (("done", done), ("tall", tall)):
-            for k, sl, r0 in group:
-                n = sl[0].stop - sl[0].start
-                if kind == "tall":
-                    n = min(n, self.max_height + 1)
-                    sl = (slice(sl[0].start, sl[0].start + n), sl[1])
-                items.append(((base + r0 + n - 1, sl[1].start, base + r0), kind, k, sl, r0))
-        items.sort(key=lambda t: t[0])
+    def _records(self, found: list[tuple], final: bool) -> list[ScannedObject]:
+        # Too-tall records of the newest row wait for the next row, so that ids
+        # (by last row) never depend on where a chunk ends; with a latency, the
+        # complete objects wait (up to `latency` rows) to be inspected in one batch.
+        found = self._held_back + found
+        newest = self._done_rows - 1
+        if final:
+            self._held_back = []
+        else:
+            self._held_back = [f for f in found if f[0][0] >= newest]
+            found = [f for f in found if f[0][0] < newest]
+            oldest = min((f[0][0] for f in found), default=newest)
+            if found and newest - oldest < self._hold:
+                self._held_back = found + self._held_back
+                return []
+        found.sort(key=lambda f: f[0])
+        done = [f for f in found if f[1] == 0]
         # The belt's side edges cut objects; along the belt, only the stream's start does.
         belt = (0.0, 0.0, np.inf, float(self.width))
-        masks, offsets, kept = [], [], []
-        for item in items:
-            _, kind, k, sl, r0 = item
-            if kind == "done":
-                mask = lab[sl] == k
-                if np.count_nonzero(mask) < self.min_area:
-                    self.n_ignored += 1
-                    continue
-                masks.append(mask)
-                offsets.append((base + r0, sl[1].start))
-            kept.append(item)
         results = iter(
             inspect_masks(
-                masks,
-                offsets,
+                [f[2] for f in done],
+                [(f[3], f[4]) for f in done],
                 self.model,
                 self.settings,
                 self.nominal_size,
                 self.size_tolerance,
-                [belt] * len(masks),
+                [belt] * len(done),
                 single=True,
             )
         )
         out = []
-        for (last, _, first), kind, k, sl, r0 in kept:
-            if kind == "done":
-                insp = next(results)
-            else:
-                insp = self._too_tall(lab[sl] == k, base + r0, sl[1].start)
+        for (last, _, first), kind, mask, top, left in found:
+            insp = next(results) if kind == 0 else self._too_tall(mask, top, left)
             out.append(ScannedObject(self.n_emitted, first, last, insp))
             self.n_emitted += 1
         return out

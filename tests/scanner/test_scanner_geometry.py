@@ -1,0 +1,84 @@
+"""The compiled per-object geometry gives what shapely and scipy give."""
+
+import numpy as np
+import pytest
+import shapely
+from scipy import ndimage
+
+from tentaclass.scanner._geometry import (
+    fill_holes,
+    hull_ring,
+    max_distance_outside,
+    row_extremes,
+)
+from tentaclass.scanner.descriptors import pixel_hull
+
+
+def _masks(n=400, seed=0):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        h, w = rng.integers(1, 14, 2)
+        m = rng.random((h, w)) < rng.random()
+        if m.any():
+            yield m
+
+
+@pytest.mark.parametrize("corners", [True, False])
+def test_hull_is_the_geos_hull_vertex_for_vertex(corners):
+    for m in _masks():
+        rows, first, last = row_extremes(m)
+        if corners:
+            x = np.concatenate([first - 0.5, first - 0.5, last + 0.5, last + 0.5])
+            y = np.concatenate([rows - 0.5, rows + 0.5, rows - 0.5, rows + 0.5])
+        else:
+            x = np.concatenate([first, last]).astype(float)
+            y = np.concatenate([rows, rows]).astype(float)
+        ref = shapely.convex_hull(shapely.multipoints(np.stack([x, y], axis=1)))
+        ours = pixel_hull(m, corners=corners)
+        assert ours.geom_type == ref.geom_type
+        if ref.geom_type == "Polygon":  # same ring, same start, same direction
+            assert np.array_equal(np.asarray(ours.exterior.coords), np.asarray(ref.exterior.coords))
+            assert np.array_equal(hull_ring(x, y.astype(float)), np.asarray(ref.exterior.coords))
+        else:
+            assert ours.equals(ref)
+
+
+def test_fill_holes_is_scipys():
+    for m in _masks():
+        assert np.array_equal(fill_holes(m), ndimage.binary_fill_holes(m))
+
+
+def test_distance_outside_a_convex_polygon_is_shapelys():
+    rng = np.random.default_rng(1)
+    ring = hull_ring(rng.normal(size=30), rng.normal(size=30))
+    poly = shapely.polygons(ring)
+    px, py = rng.normal(0, 2, 50), rng.normal(0, 2, 50)
+    ref = shapely.distance(poly, shapely.points(np.stack([px, py], axis=1))).max()
+    assert max_distance_outside(ring, px, py) == pytest.approx(ref, abs=1e-12)
+    assert max_distance_outside(ring, px[:0], py[:0]) == 0.0
+
+
+def test_opening_and_mask_hull_are_scipys_and_the_point_hulls():
+    from skimage.morphology import disk
+
+    from tentaclass.scanner._geometry import mask_hull, opening_cross
+
+    for m in _masks(seed=3):
+        assert np.array_equal(opening_cross(m), ndimage.binary_opening(m, disk(1).astype(bool)))
+        rows, first, last = row_extremes(m)
+        x = np.concatenate([first, last]).astype(float)
+        y = np.concatenate([rows, rows]).astype(float)
+        assert np.array_equal(mask_hull(m, False), hull_ring(x, y))
+
+
+@pytest.mark.parametrize("eight", [True, False])
+def test_groups_are_numbered_and_listed_as_ndimage_does(eight):
+    from tentaclass.scanner.defects import _components
+
+    for m in _masks(seed=5):
+        lab, n = ndimage.label(m, np.ones((3, 3), bool) if eight else None)
+        idx = ndimage.value_indices(lab, ignore_value=0)
+        got = _components(m, eight)
+        assert len(got) == n
+        for k, (rr, cc) in enumerate(got, 1):
+            assert np.array_equal(rr, idx[k][0]) and np.array_equal(cc, idx[k][1])
