@@ -76,7 +76,7 @@ def is_dask_collection(x: object) -> bool:
     return dask is not None and bool(dask.is_dask_collection(x))
 
 
-def _as_dask_array(x: Any):
+def _as_dask_array(x: Any) -> Any:
     import dask.array as da
 
     if hasattr(x, "to_dask_array"):  # a dask DataFrame: row counts stay unknown
@@ -90,7 +90,7 @@ class _Blocks:
     def __init__(self, func: Callable, metas: tuple[np.ndarray, ...], single: bool):
         self.func, self.metas, self.single = func, metas, single
 
-    def __call__(self, block: np.ndarray):
+    def __call__(self, block: np.ndarray) -> Any:
         if block.size == 0:
             out = tuple(np.empty(block.shape[:-1] + m.shape[1:], m.dtype) for m in self.metas)
         else:
@@ -98,7 +98,7 @@ class _Blocks:
         return out[0] if self.single and isinstance(out, tuple) else out
 
 
-def apply_rows(func: Callable[[np.ndarray], Any], x: Any):
+def apply_rows(func: Callable[[np.ndarray], Any], x: Any) -> Any:
     """``func`` applied lazily to each block of ``x`` along its leading axes.
 
     ``func`` maps an array of shape ``(..., n)`` to one array, or a tuple of
@@ -143,7 +143,8 @@ def apply_rows(func: Callable[[np.ndarray], Any], x: Any):
     probe = func(np.full((1, n), 2 * np.pi / max(n, 1)).astype(x.dtype, copy=False))
     single = not isinstance(probe, tuple)
     outs = (probe,) if single else probe
-    sizes, cores = {}, []
+    sizes: dict[str, int] = {}
+    cores: list[str] = []
     for i, out in enumerate(outs):
         names = [f"o{i}_{j}" for j in range(out.ndim - 1)]
         sizes.update(zip(names, out.shape[1:], strict=True))
@@ -168,7 +169,7 @@ def blockwise(func: Callable) -> Callable:
     """
 
     @functools.wraps(func)
-    def dispatch(q, *args, **kwargs):
+    def dispatch(q: Any, *args: Any, **kwargs: Any) -> Any:
         if is_dask_collection(q):
             # ``dispatch`` is the module attribute, so workers import it by name
             return apply_rows(functools.partial(_call_with_rows_first, dispatch, args, kwargs), q)
@@ -177,17 +178,17 @@ def blockwise(func: Callable) -> Callable:
     return dispatch
 
 
-def _call_with_rows_first(func: Callable, args: tuple, kwargs: dict, block: np.ndarray):
+def _call_with_rows_first(func: Callable, args: tuple, kwargs: dict, block: np.ndarray) -> Any:
     return func(block, *args, **kwargs)
 
 
-def _call_method(estimator: Any, name: str, args: tuple, kwargs: dict, block: np.ndarray):
+def _call_method(estimator: Any, name: str, args: tuple, kwargs: dict, block: np.ndarray) -> Any:
     return getattr(estimator, name)(block, *args, **kwargs)
 
 
 def _lazy_method(name: str, method: Callable) -> Callable:
     @functools.wraps(method)
-    def wrapper(self, X, *args, **kwargs):
+    def wrapper(self: Any, X: Any, *args: Any, **kwargs: Any) -> Any:
         if is_dask_collection(X):
             return apply_rows(functools.partial(_call_method, self, name, args, kwargs), X)
         return method(self, X, *args, **kwargs)
@@ -467,6 +468,8 @@ def scheduler(
     try:
         if echo is not None:
             n = len(client.scheduler_info(n_workers=-1).get("workers", {}))
+            if client.scheduler is None:
+                raise SchedulerError(f"the Dask client for {address} has no scheduler connection")
             where = client.scheduler.address
             echo(f"dask: {n} workers at {where}, dashboard {client.dashboard_link}")
         with on_client(client):

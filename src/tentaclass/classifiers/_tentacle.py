@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numbers
+from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -141,19 +142,19 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         self : TentacleClassifier
         """
         rate = self._check_params()
-        X, y = validate_data(self, X, y, dtype=np.float64)
-        check_classification_targets(y)
-        groups = np.arange(len(y)) if groups is None else np.asarray(groups)
-        if groups.shape != (len(y),):
-            raise InputError(f"groups must have one entry per wrap ({len(y)}), got {groups.shape}")
-        self.classes_, y_idx = np.unique(y, return_inverse=True)
-        split = split_laps(_three_or_more(X), self.n_points)
+        Xv, yv = validate_data(self, X, y, dtype=np.float64)
+        check_classification_targets(yv)
+        groups = np.arange(len(yv)) if groups is None else np.asarray(groups)
+        if groups.shape != (len(yv),):
+            raise InputError(f"groups must have one entry per wrap ({len(yv)}), got {groups.shape}")
+        self.classes_, y_idx = np.unique(yv, return_inverse=True)
+        split = split_laps(_three_or_more(Xv), self.n_points)
         self.matcher_ = ShiftNNClassifier(signal="shape", n_harmonics=0.5, weight_power=1.0).fit(
             split.lap, y_idx
         )
         closed = np.flatnonzero(split.closed)
         if closed.size == 0:  # no full lap anywhere: arcs of whatever was seen
-            closed = np.arange(len(y))
+            closed = np.arange(len(yv))
         laps = split.lap[closed]
         heads = np.cumsum(np.concatenate([laps, laps[:, ::-1]]), axis=1)
         self.headings_ = heads - heads.mean(axis=1, keepdims=True)
@@ -161,7 +162,7 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         arc_groups = np.concatenate([groups[closed], groups[closed]])
         rng = np.random.default_rng(0)
         # full wraps: leave-one-out nearest distances
-        q = _subset(len(y), _CALIBRATION_QUERIES, rng)
+        q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
         d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
         d[groups[q][:, None] == groups[None, :]] = np.inf
         self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
@@ -185,10 +186,10 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray]:
         """Scaled class distances (n, n_classes), closed flags (n,), laps (n,)."""
         check_is_fitted(self)
-        X = validate_data(self, X, dtype=np.float64, reset=False)
-        split = split_laps(_three_or_more(X), self.n_points)
+        Xv = validate_data(self, X, dtype=np.float64, reset=False)
+        split = split_laps(_three_or_more(Xv), self.n_points)
         k = len(self.classes_)
-        out = np.empty((len(X), k))
+        out = np.empty((len(Xv), k))
         closed = split.closed
         if closed.any():
             d = np.sqrt(self.matcher_.shift_distances(split.lap[closed]))
@@ -235,8 +236,8 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
             ``probability`` of the most probable class.
         """
         p = self.predict_proba(X)
-        X = validate_data(self, X, dtype=np.float64, reset=False)
-        split = split_laps(_three_or_more(X), self.n_points)
+        Xv = validate_data(self, X, dtype=np.float64, reset=False)
+        split = split_laps(_three_or_more(Xv), self.n_points)
         return {
             "state": np.where(split.closed, "closed", "partial"),
             "laps": split.laps,
@@ -244,7 +245,7 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
             "probability": p.max(axis=1),
         }
 
-    def __sklearn_tags__(self):
+    def __sklearn_tags__(self) -> Any:
         tags = super().__sklearn_tags__()
         tags.input_tags.allow_nan = False
         # the features are outlines rebuilt from joint angles: sklearn's blob
@@ -317,7 +318,9 @@ def _resample_rows(h: FloatArray, m: int) -> FloatArray:
     return np.array([np.interp(x_new, x_old, row) for row in h])
 
 
-def _cut_arc_distances(queries: FloatArray, heads: FloatArray, rng: np.random.Generator):
+def _cut_arc_distances(
+    queries: FloatArray, heads: FloatArray, rng: np.random.Generator
+) -> FloatArray:
     """Distances of arcs of 0.5-0.95 laps, cut at random from ``queries``, to ``heads``."""
     n = queries.shape[1]
     ms = np.array([_arc_points(rng.uniform(0.5, 0.95), n) for _ in queries])

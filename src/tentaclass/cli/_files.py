@@ -146,6 +146,8 @@ def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:
             if scanner is None:
                 w = settings.get("width") or (chunk.shape[1] if isinstance(chunk, np.ndarray)
                                               else None)  # fmt: skip
+                if w is None:
+                    raise TentaclassError(f"{src}: raw input needs the row width (--width)")
                 scanner = LineScanner(w, model, **settings.get("scanner", {}))
             _write_objects(scanner.feed(chunk), out, stats)
         if scanner is None:

@@ -14,6 +14,7 @@ import numbers
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Literal, overload
 
 import numpy as np
 from shapely.geometry import Polygon
@@ -156,6 +157,36 @@ def _fixed_chain_wraps(outlines, n_links, lap_target, offsets, starts, cw, mode,
         scale = np.where(ok, scale * np.where(ok, laps, 1.0) / lap_target, scale)
     laps = np.where(done, laps, np.nan)
     return angles, laps, done, scale
+
+
+@overload
+def synthetic_tentacle(
+    n_samples: int,
+    n_links: int = ...,
+    *,
+    laps: tuple[float, float] = ...,
+    offset_links: tuple[float, float] = ...,
+    noise: float | tuple[float, float] = ...,
+    mode: str = ...,
+    seed: int = ...,
+    return_X_y: Literal[False] = ...,
+    client: object = ...,
+) -> Bunch: ...
+
+
+@overload
+def synthetic_tentacle(
+    n_samples: int,
+    n_links: int = ...,
+    *,
+    laps: tuple[float, float] = ...,
+    offset_links: tuple[float, float] = ...,
+    noise: float | tuple[float, float] = ...,
+    mode: str = ...,
+    seed: int = ...,
+    return_X_y: Literal[True],
+    client: object = ...,
+) -> tuple[np.ndarray, np.ndarray]: ...
 
 
 def synthetic_tentacle(

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 from functools import lru_cache
-from importlib.resources import files
+from importlib.resources import as_file, files
 from typing import Any
 
 import numpy as np
@@ -47,8 +47,8 @@ def bundled_links() -> tuple[int, ...]:
 
 @lru_cache(maxsize=8)
 def _load_bundled(n_links: int) -> tuple[Any, dict]:
-    path = files("tentaclass.data") / f"default-{n_links}.tcm"
-    return load_model(path), model_info(path)
+    with as_file(files("tentaclass.data") / f"default-{n_links}.tcm") as path:
+        return load_model(path), model_info(path)
 
 
 def bundled_model(n_links: int) -> tuple[Any, dict]:

@@ -53,7 +53,9 @@ def _classes_from_json(rec: object) -> np.ndarray:
     return classes
 
 
-def _build_classifier(rec: object, classes: np.ndarray, arrays: dict) -> object:
+def _build_classifier(
+    rec: object, classes: np.ndarray, arrays: dict
+) -> PNNClassifier | RBFNetworkClassifier:
     kind = _field(rec, "kind", str, "classifier.")
     if kind not in _CLASSIFIER_ARRAYS:
         raise ModelFileError(f"metadata: unknown classifier kind {kind!r}")
