@@ -11,7 +11,7 @@ import numpy as np
 from sklearn.base import clone
 from sklearn.model_selection import StratifiedKFold
 
-from .._typing import ArrayLike
+from .._typing import ArrayLike, FloatArray
 from .._validation import as_float_array
 from ..errors import InputError
 from ._methods import METHODS, make_method
@@ -103,9 +103,11 @@ def run_benchmark(
     >>> [r.accuracy for r in run_benchmark(X, y, ["thesis"], n_splits=5)]
     [1.0]
     """
-    failed = np.zeros(len(X), bool) if failed is None else np.asarray(failed, bool)
-    X = np.where(failed[:, None], 0.0, np.asarray(X, dtype=float)) if failed.any() else X
+    flags = None if failed is None else np.asarray(failed, bool)
+    if flags is not None and flags.any():
+        X = np.where(flags[:, None], 0.0, np.asarray(X, dtype=float))
     X = as_float_array(X, "X", min_ndim=2)
+    flags = np.zeros(len(X), bool) if flags is None else flags
     y = np.asarray(y)
     if X.ndim != 2 or len(y) != len(X):
         raise InputError(f"X must be (n_samples, n_joints) with one label each, got {X.shape}")
@@ -125,14 +127,23 @@ def run_benchmark(
         task = bar.add_task("benchmark", total=len(methods) * len(folds))
     try:
         for name in methods:
-            results.append(_run_one(name, X, y, folds, bar, task if bar else None, groups, failed))
+            results.append(_run_one(name, X, y, folds, bar, task if bar else None, groups, flags))
     finally:
         if bar is not None:
             bar.stop()
     return results
 
 
-def _run_one(name, X, y, folds, bar, task, groups, failed) -> BenchResult:
+def _run_one(
+    name: str,
+    X: FloatArray,
+    y: np.ndarray,
+    folds: list[tuple[np.ndarray, np.ndarray]],
+    bar: Any,
+    task: Any,
+    groups: np.ndarray,
+    failed: np.ndarray,
+) -> BenchResult:
     fit_s = pred_s = 0.0
     y_true, y_pred, accs = [], [], []
     try:

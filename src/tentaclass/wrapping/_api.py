@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import cast
 
 import numpy as np
 import shapely
@@ -152,13 +153,13 @@ def _geom_locate(points, curve):
     return locate(points, curve)
 
 
-def _is_single(outlines: object) -> bool:
+def _outline_list(outlines: ArrayLike | Sequence[ArrayLike]) -> list[ArrayLike] | None:
+    """The outlines of a batch, or None when ``outlines`` is one outline (rows of points)."""
     if isinstance(outlines, np.ndarray):
-        return outlines.ndim == 2
-    if isinstance(outlines, Sequence) and len(outlines) > 0:
-        first = outlines[0]
-        return np.ndim(first) == 1
-    return True
+        return None if outlines.ndim == 2 else list(outlines)
+    if isinstance(outlines, Sequence) and len(outlines) > 0 and np.ndim(outlines[0]) != 1:
+        return list(outlines)
+    return None
 
 
 def wrap_many(
@@ -208,9 +209,10 @@ def wrap_many(
     if _dask.wants_blocks(outlines, link_length, starts, offset):  # lazy, chunk by chunk
         kw = {"direction": direction, "mode": mode, "noise": noise, "thickness": thickness}
         return _dask.wrap_blocks(wrap_many, outlines, n, link_length, starts, offset, seed, **kw)
-    single = _is_single(outlines)
-    if single:
-        shapes = [as_outline(outlines)]
+    many = _outline_list(outlines)
+    if many is None:
+        # one outline: numpy's ArrayLike does not cover every sequence of points
+        shapes = [as_outline(cast(ArrayLike, outlines))]
         ls = _as_batch(link_length, "link_length", None, 0.0, None)
         st = _as_batch(starts, "starts", None, 0.0, 1.0)
         off = _as_batch(offset, "offset", None, 0.0, None)
@@ -221,7 +223,7 @@ def wrap_many(
             groups = [np.flatnonzero(lb == v) for v in np.unique(lb)]
             shapes = shapes * len(groups)
     else:
-        shapes = [as_outline(o, f"outlines[{i}]") for i, o in enumerate(outlines)]
+        shapes = [as_outline(o, f"outlines[{i}]") for i, o in enumerate(many)]
         b = len(shapes)
         groups = [np.array([i]) for i in range(b)]
     ls = _as_batch(link_length, "link_length", b, 0.0, None)
@@ -275,7 +277,18 @@ def wrap_many(
     return _finish(out, n, ls, off, mirror, noise, seed, on_start, scales, direction)
 
 
-def _finish(out, n, ls, off, mirror, noise, seed, on_start, scales, direction) -> WrapBatch:
+def _finish(
+    out: dict[str, np.ndarray],
+    n: int,
+    ls: FloatArray,
+    off: FloatArray,
+    mirror: bool,
+    noise: float,
+    seed: int | np.random.Generator | None,
+    on_start: np.ndarray,
+    scales: FloatArray,
+    direction: str,
+) -> WrapBatch:
     b = len(ls)
     joints, lap, phi, placed = out["joints"], out["lap"], out["phi"], out["placed"]
     s0 = out["start"]

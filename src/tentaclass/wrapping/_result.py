@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from .._typing import BoolArray, FloatArray, IntArray
 
@@ -78,6 +79,10 @@ class WrapBatch:
     n_placed: IntArray  # (b,)
     closure_gap: FloatArray  # (b,)
     start_point: FloatArray  # (b, 2)
+    if TYPE_CHECKING:
+        # set after construction with object.__setattr__: not dataclass fields
+        _link_length: FloatArray = field(init=False, repr=False, compare=False)  # (b,)
+        _direction: str = field(init=False, repr=False, compare=False)
 
     def __len__(self) -> int:
         return len(self.laps)
