@@ -256,6 +256,8 @@ def scan(
             )
             belt_width = belt.image.shape[1]
         else:
+            if file is None:  # excluded above: exactly one of FILE and --simulate
+                raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
             if file == "-":
                 fh: Any = click.open_file("-", "rb")
                 total = None
@@ -277,6 +279,8 @@ def scan(
             for chunk in _chunks(source, belt_rows):
                 if scanner is None:
                     w = belt_width or (chunk.shape[1] if isinstance(chunk, np.ndarray) else None)
+                    if w is None:
+                        raise TentaclassError("raw input needs the row width (--width)")
                     scanner = LineScanner(
                         w,
                         model,
@@ -318,7 +322,7 @@ def scan(
             save_belt_figure(image, kept, annotate)
         except (ValueError, OSError) as exc:
             raise click.ClickException(f"cannot write {annotate}: {_one_line(exc)}") from None
-    result = {
+    result: dict[str, Any] = {
         "rows": rows,
         "ignored": ignored,
         "objects": stats["objects"],

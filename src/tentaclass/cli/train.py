@@ -7,6 +7,7 @@ import glob
 import re
 import zipfile
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -14,6 +15,10 @@ import numpy as np
 from .._validation import as_angle_array
 from ..io import save_model
 from .options import dask_client, finite, parse_angle, predict_on, scheduler_option
+
+if TYPE_CHECKING:
+    from rich.console import Console
+    from rich.progress import Progress
 
 
 class Spread(click.ParamType):
@@ -68,7 +73,8 @@ def _read_csv(path: Path) -> tuple[np.ndarray, np.ndarray]:
         text = path.read_text()
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a text file") from None
-    rows, labels = [], []
+    rows: list[list[float]] = []
+    labels: list[str] = []
     lines = [(i, line) for i, line in enumerate(text.splitlines(), 1)]
     for lineno, line in lines:
         line = line.split("#", 1)[0].strip()
@@ -206,7 +212,9 @@ def _outline_files(patterns: tuple[str, ...]) -> list[Path]:
     return found
 
 
-def _pair(text: str | None, name: str, default: tuple[float, float] | None, one_is_max=False):
+def _pair(
+    text: str | None, name: str, default: tuple[float, float] | None, one_is_max: bool = False
+) -> tuple[float, float] | None:
     if text is None:
         return default
     try:
@@ -220,7 +228,7 @@ def _pair(text: str | None, name: str, default: tuple[float, float] | None, one_
     return values[0], values[1]
 
 
-def _progress_bar(total_label: str):
+def _progress_bar(total_label: str) -> Progress:
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
 
     return Progress(
@@ -233,7 +241,7 @@ def _progress_bar(total_label: str):
     )
 
 
-def _stderr_console():
+def _stderr_console() -> Console:
     from rich.console import Console
 
     return Console(stderr=True)
@@ -245,23 +253,23 @@ def train_for_chain(
     *,
     n_links: int,
     link_length: float,
-    laps,
-    diameters,
-    offset,
-    noise,
+    laps: tuple[float, float] | None,
+    diameters: tuple[float, float] | None,
+    offset: tuple[float, float] | None,
+    noise: tuple[float, float] | None,
     n_wraps: int,
     mode: str,
     random_state: int,
     reject_rate: float | None = None,
     quiet: bool = False,
-):
+) -> tuple[Any, dict[str, Any]]:
     """Wrap the outlines with the chain, train the default recogniser; model and info."""
     from ..datasets import chain_wraps
     from ..io import rejection_threshold
 
     outlines = [read_outline(f) for f in files]
     y_files = np.array(labels)
-    settings = {"link_length": link_length, "laps": laps, "diameters": diameters,
+    settings: dict[str, Any] = {"link_length": link_length, "laps": laps, "diameters": diameters,
                 "offset_links": offset, "noise": noise, "mode": mode}  # fmt: skip
     with _progress_bar("wrapping") as bar:
         task = bar.add_task("wraps", total=len(outlines) * n_wraps, visible=not quiet)
@@ -290,7 +298,7 @@ def train_for_chain(
     else:
         model = TentacleClassifier().fit(train.data, y)
     held_y = y_files[held.outline]
-    info = {
+    info: dict[str, Any] = {
         "chain": {**chain, "n_wraps": n_wraps, "random_state": random_state},
         "classes": [str(c) for c in model.classes_],
         "outlines": [f.name for f in files],
