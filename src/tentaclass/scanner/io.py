@@ -133,7 +133,8 @@ _PBM_TOKEN = re.compile(rb"\s*(?:#[^\n]*\n\s*)*(\S+)")
 def _pbm_rows(fh: IO[bytes], width: int | None, chunk_rows: int) -> Iterator[np.ndarray]:
     # The header is short; read enough for it, then stream the raster.
     head = fh.read(4096)
-    pos, tokens = 0, []
+    pos = 0
+    tokens: list[bytes] = []
     while len(tokens) < 3:
         m = _PBM_TOKEN.match(head, pos)
         if not m:
@@ -340,18 +341,20 @@ def read_belt(
     if not chunks:
         raise InputError("empty stream: no rows found")
     if isinstance(chunks[0], bytes):
-        data = b"".join(chunks)  # type: ignore[arg-type]
-        if len(data) % width:  # type: ignore[operator]
+        if width is None:  # read_rows gives bytes only for raw input, which has a width
+            raise InputError("raw input needs the row width (--width)")
+        data = b"".join(c for c in chunks if isinstance(c, bytes))  # raw: every chunk is bytes
+        if len(data) % width:
             raise InputError(
-                f"truncated stream: row {len(data) // width} has only "  # type: ignore[operator]
-                f"{len(data) % width} of {width} bytes"  # type: ignore[operator]
+                f"truncated stream: row {len(data) // width} has only "
+                f"{len(data) % width} of {width} bytes"
             )
         arr = np.frombuffer(data, np.uint8).reshape(-1, width)
         if arr.max(initial=0) > 1:
             i, j = np.argwhere(arr > 1)[0]
             raise InputError(f"row {i}, column {j}: byte value {arr[i, j]}, expected 0 or 1")
         return arr.astype(bool)
-    return np.concatenate(chunks)  # type: ignore[arg-type]
+    return np.concatenate(chunks)
 
 
 def write_pbm(path: str | Path | IO[bytes], image: Any) -> None:
@@ -371,9 +374,9 @@ def write_pbm(path: str | Path | IO[bytes], image: Any) -> None:
     h, w = img.shape
     data = f"P4\n{w} {h}\n".encode() + np.packbits(img, axis=1).tobytes()
     if hasattr(path, "write"):
-        path.write(data)  # type: ignore[union-attr]
+        path.write(data)
     else:
-        Path(path).write_bytes(data)  # type: ignore[arg-type]
+        Path(path).write_bytes(data)
 
 
 def write_text(path: str | Path | IO[str], image: Any) -> None:
@@ -392,6 +395,6 @@ def write_text(path: str | Path | IO[str], image: Any) -> None:
         raise InputError(f"image must be 2-D, got shape {img.shape}")
     text = "".join("".join("1" if v else "0" for v in row) + "\n" for row in img)
     if hasattr(path, "write"):
-        path.write(text)  # type: ignore[union-attr]
+        path.write(text)
     else:
-        Path(path).write_text(text)  # type: ignore[arg-type]
+        Path(path).write_text(text)
