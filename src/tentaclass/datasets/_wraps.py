@@ -41,7 +41,7 @@ def _noise_range(noise: float | tuple[float, float]) -> tuple[float, float]:
 
 def _range(value: tuple[float, float], name: str, *, allow_zero: bool) -> tuple[float, float]:
     try:
-        lo, hi = value  # type: ignore[misc]
+        lo, hi = value
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a pair (low, high), got {value!r}") from None
     lo = check_positive_float(lo, name, allow_zero=allow_zero)
@@ -430,8 +430,18 @@ def _rotated(outline: np.ndarray, theta: float) -> np.ndarray:
     return centred @ np.array([[c, s], [-s, c]])
 
 
-def _fixed_chain_mpeg7(outlines, n_links, mode, copies, seed, laps, offset_links,
-                       progress=False, chunk=50, client=None):  # fmt: skip
+def _fixed_chain_mpeg7(
+    outlines: Sequence[np.ndarray],
+    n_links: int,
+    mode: str,
+    copies: int,
+    seed: int,
+    laps: tuple[float, float],
+    offset_links: tuple[float, float],
+    progress: bool = False,
+    chunk: int = 50,
+    client: object = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Noise-free fixed-chain wraps of every outline, copy after copy.
 
     Generated in chunks of ``chunk`` wraps (each wrap is independent, so the
