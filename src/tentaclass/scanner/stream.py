@@ -208,6 +208,7 @@ class LineScanner:
 
     def _array_rows(self, rows: Any) -> np.ndarray:
         """Validate one chunk of arrays into a kernel-ready (n, width) array."""
+        arr: np.ndarray | None
         if isinstance(rows, np.ndarray) and rows.dtype.kind in "buif":
             arr = rows
         else:
@@ -290,6 +291,7 @@ class LineScanner:
             and rows.dtype == fast
             and rows.shape == self._row_shape
             and not self._partial
+            and self._stage is not None
         ):
             # one row of a type that needs no checks, to the stage (a camera's case)
             self._stage[self._n_stage] = rows
@@ -335,7 +337,7 @@ class LineScanner:
             self._stage = np.empty((self._stage_rows, self.width), dtype=arr.dtype)
             # rows of this type go to the stage unchecked: bool for binary rows,
             # integers for grey ones (any value is valid, none is NaN)
-            binary = self.threshold_.mode == "binary"
+            binary = self.threshold_ is not None and self.threshold_.mode == "binary"
             self._fast_dtype = (
                 np.dtype(bool)
                 if binary and arr.dtype == np.uint8
@@ -355,7 +357,7 @@ class LineScanner:
 
     def _drain(self) -> list[ScannedObject]:
         """Run the staged rows through the kernel."""
-        if not self._n_stage:
+        if not self._n_stage or self._stage is None:
             return []
         rows, self._n_stage = self._stage[: self._n_stage], 0
         return self._run(rows)
@@ -477,7 +479,7 @@ class LineScanner:
         """Push rows (None: the end of the stream) through the kernel; build the records."""
         p = self._pools
         final = arr is None
-        if final:
+        if arr is None:
             arr = np.zeros((0, self.width), dtype=np.uint8)
         mode, dark, level, contrast, rate = self._rule
         if mode == 0 and dark:
