@@ -79,10 +79,10 @@ def test_bad_input_is_one_line(args, message):
     assert r.exception is None or isinstance(r.exception, SystemExit)
 
 
-def test_laps_needing_too_much_memory_is_one_line_error():
+def test_laps_needing_too_many_links_is_one_line_error():
     from tentaclass.cli.main import cli
 
     r = CliRunner().invoke(cli, ["wrap", "--laps", "1e-9"])  # 1.6e10 links per lap
     assert r.exit_code == 1
-    assert "out of memory" in r.output
+    assert "n_links must be at most 100,000" in r.output
     assert "Traceback" not in r.output and len(r.output.strip().splitlines()) == 1

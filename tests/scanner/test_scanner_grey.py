@@ -12,7 +12,9 @@ from tentaclass.scanner.threshold import choose_threshold
 
 
 def _belt(seed=5, n=10, width=128):
-    belt = make_belt(n, width=width, lanes=2, gap=(4, 12), seed=seed, radius_range=(5.0, 14.0))
+    belt = make_belt(
+        n, width=width, lanes=2, gap=(4, 12), random_state=seed, radius_range=(5.0, 14.0)
+    )
     pad = np.zeros((16, width), dtype=bool)  # quiet belt first: the calibration rows
     return np.concatenate([pad, belt.image])
 

@@ -131,15 +131,15 @@ def test_approach_through_the_object_is_refused():
     comb = OUTLINES["comb"]  # start on a tooth's wall, facing the next tooth 1 unit away
     with pytest.raises(InputError, match=r"\(4, 1.5\) along its normal passes through the "
                        r"object after 1;"):  # fmt: skip
-        wrap(comb, 1, 0.75, start=0.4375, mode="hug", offset=2.025)
+        wrap(comb, 3, 0.75, start=0.4375, mode="hug", offset=2.025)
     with pytest.raises(InputError, match=r"\(4, 1.5\) along its normal .* after 1;"):
-        wrap(comb, 1, 0.75, start=0.4375, mode="hug", offset=2.025, direction="cw")
+        wrap(comb, 3, 0.75, start=0.4375, mode="hug", offset=2.025, direction="cw")
     with pytest.raises(InputError, match=r"offset 2.025 \(wrap 1\)"):
-        wrap_many(comb, 1, 0.75, starts=0.4375, offset=[0.5, 2.025, 0.0], mode="hug")
+        wrap_many(comb, 3, 0.75, starts=0.4375, offset=[0.5, 2.025, 0.0], mode="hug")
     w = wrap(comb, 4, 0.75, start=0.4375, mode="hug", offset=0.5)  # stays in the slot
     assert w.offset_links == 1 and w.complete
     np.testing.assert_allclose(w.joints[0], [3.5, 1.5])
-    ok = wrap(shapes.square(4), 4, 1.0, offset=30.0)  # convex: any stand-off is fine
+    ok = wrap(shapes.square(4), 40, 1.0, offset=30.0)  # convex: any stand-off is fine
     assert ok.offset_links == 30
 
 

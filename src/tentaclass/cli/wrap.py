@@ -108,9 +108,13 @@ def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path |
                     "2 links per lap)",
                     param_hint="--laps",
                 )
-            link_length = link_length_for_laps(
-                outline, links, laps, start=start, direction=direction, mode=mode, offset=offset
-            )
+            try:
+                link_length = link_length_for_laps(
+                    outline, links, laps, start=start, direction=direction, mode=mode,
+                    offset=offset,
+                )  # fmt: skip
+            except ValueError as exc:  # one line, whatever wraps the command
+                raise click.ClickException(f"--laps {laps:g}: {exc}") from None
         elif link_length is None:
             link_length = 1.0
         w = do_wrap(outline, links, link_length, noise=noise, seed=seed, **kw)

@@ -469,8 +469,15 @@ def _fixed_chain_mpeg7(
         for lo in range(0, m, chunk):
             part = slice(lo, lo + chunk)
             angles[part], got[part], done[part], _ = _dask.split_rows(
-                _fixed_chain_wraps, rows[part], n_links, lap_target[part], off[part],
-                starts[part], cw[part], mode, client=client,
+                _fixed_chain_wraps,
+                rows[part],
+                n_links,
+                lap_target[part],
+                off[part],
+                starts[part],
+                cw[part],
+                mode,
+                client=client,
             )
             if bar is not None:
                 bar.update(task, completed=min(lo + chunk, m))
@@ -588,8 +595,16 @@ def mpeg7_tentacle(
     else:
         if protocol == "fixed-chain":
             angles, got, done, off = _fixed_chain_mpeg7(
-                outlines, n_links, mode, copies, seed, laps, offset_links, progress,
-                chunk=50 if client is None else 1000, client=client,
+                outlines,
+                n_links,
+                mode,
+                copies,
+                seed,
+                laps,
+                offset_links,
+                progress,
+                chunk=50 if client is None else 1000,
+                client=client,
             )
         else:
             with _dask.on_client(client):
