@@ -53,6 +53,8 @@ def shell_commands(path: Path) -> list[list[str]]:
             line = line.strip().removeprefix("$ ")
             if line.startswith("python -m tentaclass"):
                 line = line.replace("python -m tentaclass", "tentaclass", 1)
-            if line.startswith("tentaclass "):
-                out.append(shlex.split(line, comments=True)[1:])
+            for part in line.split("|"):  # each command of a pipe
+                part = part.strip()
+                if part.startswith("tentaclass "):
+                    out.append(shlex.split(part, comments=True)[1:])
     return out

@@ -457,8 +457,9 @@ def test_version_1_files_are_still_read(kind):
     here = Path(__file__).parent / "data"
     model = load_model(here / f"v1-tentacle-{kind}.tcm")
     X, _ = reference_tentacle(16, n_starts=2, return_X_y=True)
-    np.testing.assert_array_equal(
-        model.predict_proba(X), np.load(here / f"v1-tentacle-{kind}-proba.npy")
+    # the same numbers up to rounding (the features may be summed in another order)
+    np.testing.assert_allclose(
+        model.predict_proba(X), np.load(here / f"v1-tentacle-{kind}-proba.npy"), rtol=1e-9, atol=0
     )
     assert model_info(here / f"v1-tentacle-{kind}.tcm")["format_version"] == 1
 
