@@ -54,3 +54,18 @@ def mpeg7_folder():
 
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _fresh_worker_processes():
+    """Each test module starts joblib's worker processes afresh.
+
+    Workers left over from another module (after a Dask cluster or a server
+    came and went in between) are shut down, never reused.
+    """
+    yield
+    from joblib.externals.loky import reusable_executor
+
+    executor = reusable_executor._executor  # None until a module used joblib's processes
+    if executor is not None:
+        executor.shutdown(wait=True, kill_workers=True)

@@ -459,7 +459,10 @@ def test_version_1_files_are_still_read(kind):
     X, _ = reference_tentacle(16, n_starts=2, return_X_y=True)
     # the same numbers up to rounding (the features may be summed in another order)
     np.testing.assert_allclose(
-        model.predict_proba(X), np.load(here / f"v1-tentacle-{kind}-proba.npy"), rtol=1e-6, atol=1e-12
+        model.predict_proba(X),
+        np.load(here / f"v1-tentacle-{kind}-proba.npy"),
+        rtol=1e-6,
+        atol=1e-12,
     )
     assert model_info(here / f"v1-tentacle-{kind}.tcm")["format_version"] == 1
 
