@@ -1,6 +1,5 @@
 import numpy as np
 import pytest
-from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from tentaclass.classifiers import OutlineClassifier
 
@@ -59,9 +58,3 @@ def test_query_of_another_length_is_refused():
     clf = OutlineClassifier(random_state=0).fit(X, y)
     with pytest.raises(ValueError, match="features"):
         clf.predict(X[:, :32])
-
-
-@pytest.mark.slow
-@parametrize_with_checks([OutlineClassifier(random_state=0)])
-def test_sklearn_compatible(estimator, check):
-    check(estimator)
