@@ -215,11 +215,11 @@ class OutlineClassifier(BaseProbabilisticClassifier):
             nn_oof[test] = self._nn_scores(d2, yi[~test])
         self._nn = nn.fit(Z, yi)
         self._labels = yi
+        self._nn_scale = max(float(-nn_oof.min()), 1e-12)  # 1-NN scores of order one
         self._temperature = {
             "rocket": _fit_temperature(rocket_oof, yi),
-            "shift_nn": _fit_temperature(nn_oof / max(float(-nn_oof.min()), 1e-12), yi),
+            "shift_nn": _fit_temperature(nn_oof / self._nn_scale, yi),
         }
-        self._nn_scale = max(float(-nn_oof.min()), 1e-12)
         self.member_accuracy_ = {
             "rocket": float(np.mean(rocket_oof.argmax(axis=1) == yi)),
             "shift_nn": float(np.mean(nn_oof.argmax(axis=1) == yi)),

@@ -48,11 +48,16 @@ def ucr_shapes(name: str) -> Bunch:
     for split in ("train", "test"):
         X, y = load_classification(name, split=split)
         parts.append((np.asarray(X, dtype=np.float64)[:, 0, :], np.asarray(y).astype(str), split))
+    return _split_bunch(parts, f"UCR {name}, official split, from the copy aeon ships.")
+
+
+def _split_bunch(parts: list, descr: str) -> Bunch:
+    """One Bunch of ``(data, target, split name)`` parts, train first."""
     return Bunch(
-        data=np.concatenate([p[0] for p in parts]),
-        target=np.concatenate([p[1] for p in parts]),
-        split=np.concatenate([np.full(len(p[1]), p[2]) for p in parts]),
-        DESCR=f"UCR {name}, official split, from the copy aeon ships.",
+        data=np.concatenate([q[0] for q in parts]),
+        target=np.concatenate([q[1] for q in parts]),
+        split=np.concatenate([np.full(len(q[1]), q[2]) for q in parts]),
+        DESCR=descr,
     )
 
 
@@ -166,9 +171,4 @@ def load_ucr(path: str | os.PathLike, name: str | None = None) -> Bunch:
             f"{name}: train and test series differ in length "
             f"({parts[0][0].shape[1]} and {parts[1][0].shape[1]})"
         )
-    return Bunch(
-        data=np.concatenate([q[0] for q in parts]),
-        target=np.concatenate([q[1] for q in parts]),
-        split=np.concatenate([np.full(len(q[1]), q[2]) for q in parts]),
-        DESCR=f"{name} from {folder}, official train/test split.",
-    )
+    return _split_bunch(parts, f"{name} from {folder}, official train/test split.")
