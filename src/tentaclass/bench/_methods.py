@@ -18,7 +18,12 @@ from sklearn.pipeline import make_pipeline, make_union
 from sklearn.preprocessing import StandardScaler
 from sklearn.svm import SVC
 
-from ..classifiers import FourierClassifier, PNNClassifier, TentacleClassifier
+from ..classifiers import (
+    FourierClassifier,
+    OutlineClassifier,
+    PNNClassifier,
+    TentacleClassifier,
+)
 from ..classifiers._shift_nn import ShiftNNClassifier
 from ..errors import InputError
 from ..features import AngleSpectrum, FourierFeatures, LastLap
@@ -164,6 +169,13 @@ METHODS: dict[str, Method] = {
             "shift-nn-raw",
             lambda: ShiftNNClassifier(signal="raw"),
             "1-NN on the arrays as periodic signals, best cyclic shift and mirror (FFT)",
+            True,
+        ),
+        Method(
+            "outline",
+            OutlineClassifier,
+            "OutlineClassifier(): start- and mirror-invariant MiniRocket + shift-invariant 1-NN "
+            "(outline series; needs aeon)",
             True,
         ),
         Method(

@@ -8,9 +8,10 @@ import click
 import numpy as np
 
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
+from ..errors import InputError
 from .options import dask_client, finite, scheduler_option
 
-DATASETS = ("reference", "synthetic", "mpeg7", "ArrowHead", "OSULeaf")
+DATASETS = ("reference", "synthetic", "mpeg7", "ucr", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "tentacle,thesis,shift-nn-lp,lap-shape-nn,1nn-euclidean,svc,minirocket"
 
 
@@ -18,7 +19,8 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
           data_dir: Path | None, seed: int, jobs: int = 1, protocol: str = "fixed-chain",
           laps: tuple[float, float] = (1.2, 2.0),
           offset: tuple[float, float] = (0.0, 2.0),
-          client: object = None) -> tuple[dict, str]:  # fmt: skip
+          client: object = None, ucr_path: Path | None = None,
+          ucr_name: str | None = None) -> tuple[dict, str]:  # fmt: skip
     """Arrays and benchmark keywords for a dataset name, plus a title."""
     from .. import datasets
 
@@ -48,6 +50,12 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
             f"MPEG-7 wraps, {protocol} ({what}), {links} links, {mode}, noise {noise:g}, "
             f"{copies} wrap(s) per shape, {int((~d.complete).sum())} failed",
         )
+    if dataset == "ucr":
+        if ucr_path is None:
+            raise InputError("--dataset ucr needs --ucr-path: the archive's folder, a data "
+                             "set's folder or its _TRAIN file")  # fmt: skip
+        d = datasets.load_ucr(ucr_path, ucr_name)
+        return {"X": d.data, "y": d.target, "split": d.split}, d.DESCR.rstrip(".")
     d = datasets.ucr_shapes(dataset)
     return {"X": d.data, "y": d.target, "split": d.split}, f"UCR {dataset}, official split"
 
@@ -80,6 +88,15 @@ def _pair(ctx, param, value):
               help="MPEG-7 folder (default ../shared/data/mpeg7-part-b).")  # fmt: skip
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path),
               default=Path("bench-results"), show_default=True)  # fmt: skip
+@click.option("--ucr-path", type=click.Path(exists=True, path_type=Path), default=None,
+              help="UCR / UEA: the archive's folder, a data set's folder or its _TRAIN file "
+              "(.tsv or .ts).")  # fmt: skip
+@click.option(
+    "--name",
+    "ucr_name",
+    default=None,
+    help="UCR / UEA: the data set in --ucr-path (default: the folder's name).",
+)
 @click.option("--protocol", type=click.Choice(["fixed-chain", "one-lap"]), default="fixed-chain",
               show_default=True, help="MPEG-7: one chain of unit links, or one lap by a link "
               "length tuned per shape (an upper bound).")  # fmt: skip
@@ -91,9 +108,12 @@ def _pair(ctx, param, value):
 @click.option("--jobs", type=click.IntRange(min=-1), default=1, show_default=True,
               help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
 @scheduler_option
-def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, protocol,
-          laps, offset, seed, jobs, scheduler=None):  # fmt: skip
+def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, ucr_path,
+          ucr_name, protocol, laps, offset, seed, jobs, scheduler=None):  # fmt: skip
     """Stratified k-fold accuracy (or the official split), fit and predict time.
+
+    UCR / UEA sets use their official train/test split:
+    ``--dataset ucr --ucr-path DIR --name NAME --methods outline,minirocket``.
 
     Writes a markdown table and the best method's confusion matrix to OUT.
     """
@@ -108,7 +128,7 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
     with dask_client(scheduler) as client:  # generates the wraps on the cluster
         kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed, jobs,
-                          protocol, laps, offset, client)  # fmt: skip
+                          protocol, laps, offset, client, ucr_path, ucr_name)  # fmt: skip
     X = kw.pop("X")
     y = kw.pop("y")
     results = run_benchmark(X, y, names, n_splits=folds, seed=seed, progress=True, **kw)
@@ -118,6 +138,8 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     stem = (
         f"{dataset}-{links}-{mode}-noise{noise:g}" if dataset in ("mpeg7", "synthetic") else dataset
     )
+    if dataset == "ucr":
+        stem = "ucr-" + title.split(" ", 1)[0]  # the data set's name
     if dataset == "mpeg7":
         stem += f"-{protocol}" + (
             f"-laps{laps[0]:g}-{laps[1]:g}" if protocol == "fixed-chain" else ""

@@ -65,9 +65,7 @@ def _read_tsv(path: Path) -> tuple[np.ndarray, np.ndarray]:
     rows = [line.rstrip("\n").split("\t") for line in path.read_text().splitlines() if line.strip()]
     if not rows:
         raise InputError(f"{path}: no series in the file")
-    lengths = {len(r) for r in rows}
-    if len(lengths) != 1:
-        raise InputError(f"{path}: series of different lengths ({sorted(lengths)[:5]} values)")
+    _same_lengths(path, [len(r) - 1 for r in rows])
     labels = np.array([r[0].strip() for r in rows])
     try:
         data = np.array([[float(v) for v in r[1:]] for r in rows])
@@ -100,10 +98,15 @@ def _read_ts(path: Path) -> tuple[np.ndarray, np.ndarray]:
             labels.append(label.strip())
     if not data:
         raise InputError(f"{path}: no @data section with series")
-    lengths = {len(r) for r in data}
-    if len(lengths) != 1:
-        raise InputError(f"{path}: series of different lengths ({sorted(lengths)[:5]})")
+    _same_lengths(path, [len(r) for r in data])
     return np.array(data), np.array(labels)
+
+
+def _same_lengths(path: Path, lengths: list[int]) -> None:
+    """Refuse a file whose series differ in length (this reader does not resample)."""
+    seen = sorted(set(lengths))
+    if len(seen) != 1:
+        raise InputError(f"{path}: series of different lengths ({seen[:5]} values)")
 
 
 def load_ucr(path: str | os.PathLike, name: str | None = None) -> Bunch:
