@@ -26,7 +26,7 @@ from .._thesis_data import scanner_training_grids
 from .._validation import as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
-from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure
+from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure_many
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "ScannerModel", "default_model"]
 
@@ -146,7 +146,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         -------
         features : ndarray of shape (n_grids, n_features)
         """
-        return self.features([measure(crop(g)[0]) for g in as_grid_list(grids)])
+        return self.features(measure_many([crop(g)[0] for g in as_grid_list(grids)])[0])
 
     # -- fitting -----------------------------------------------------------------------------
     def fit(self, grids: Any, labels: Any) -> ScannerModel:
@@ -164,7 +164,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         self : ScannerModel
         """
         grids = as_grid_list(grids)
-        geoms = [measure(crop(g)[0]) for g in grids]
+        geoms = measure_many([crop(g)[0] for g in grids])[0]
         sizes = np.array([[g.length, g.width] for g in geoms], dtype=float)
         return self._fit_features(self.features(geoms), labels, sizes)
 
