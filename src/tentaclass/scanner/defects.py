@@ -203,7 +203,7 @@ def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:
 def _ragged(geoms: np.ndarray, n: int, drop_last: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Coordinates of geometries (``None``: none) one after the other, and their starts."""
     xy, index = shapely.get_coordinates(geoms, return_index=True)
-    if drop_last:
+    if drop_last and index.size:
         last = np.r_[index[1:] != index[:-1], True]
         xy, index = xy[~last], index[~last]
     return np.ascontiguousarray(xy), np.searchsorted(index, np.arange(n + 1))
