@@ -29,6 +29,16 @@ class BaseProbabilisticClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         """Unnormalised log score of each class, shape (n_samples, n_classes)."""
 
     def _check_X(self, X: ArrayLike) -> FloatArray:
+        if (
+            type(X) is np.ndarray
+            and X.dtype == np.float64
+            and X.ndim == 2
+            and X.shape[0] > 0
+            and X.shape[1] == getattr(self, "n_features_in_", -1)
+            and not hasattr(self, "feature_names_in_")
+            and np.isfinite(X).all()
+        ):
+            return X  # what the full check (below) returns for it, without its overhead
         check_is_fitted(self)
         return check_X(self, X, dtype=np.float64, reset=False)
 

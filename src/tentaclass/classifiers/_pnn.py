@@ -317,6 +317,7 @@ class PNNClassifier(BaseProbabilisticClassifier):
         self._pt = pt
         bounds = np.concatenate([[0], np.cumsum(self.class_count_)])
         self._bounds = bounds
+        self._tiles1 = self._tiles(1, np.dtype(dt).itemsize)  # single-threaded predictions
 
     def _tiles(self, n_threads: int, itemsize: int) -> tuple[int, list[tuple[int, int, int]]]:
         """Rows per tile and the column tiles ``(class, start, stop)``."""
@@ -415,7 +416,7 @@ class PNNClassifier(BaseProbabilisticClassifier):
         xa[:, -1] = -g * np.einsum("ij,ij->i", Xc, Xc)
         work = X.shape[0] * self.patterns_.shape[0]
         n_threads = min(_n_threads(), max(1, work // _MIN_PARALLEL))
-        rows, tiles = self._tiles(n_threads, dt.itemsize)
+        rows, tiles = self._tiles1 if n_threads == 1 else self._tiles(n_threads, dt.itemsize)
         if n_threads == 1:
             lse = self._log_sums(xa, rows, tiles)
         else:
