@@ -239,7 +239,9 @@ def measure_many(
             angle = 0.0
         long, short = (a, b) if a >= b else (b, a)
         geoms.append(
-            Geometry(mask, f, core, area, hull, rect, round(long, 9), round(short, 9), round(angle, 6))
+            Geometry(
+                mask, f, core, area, hull, rect, round(long, 9), round(short, 9), round(angle, 6)
+            )
         )
     return geoms, sums, batch._replace(filled=filled_flat, core=core_flat)
 

@@ -419,4 +419,3 @@ def _is_legacy_npz(path: Path) -> bool:
     except Exception:  # whatever a damaged zip raises: load_model names the problem
         return False
     return "metadata.npy" in names and "metadata.json" not in names
-
