@@ -67,7 +67,7 @@ def main(n_train: int = 1000, n_test: int = 500, repeat: int = 3, n_classes: int
                 s: ShiftNNClassifier(signal=s).fit(X_train, y_train) for s in ("turning", "raw")
             }
             runs = {
-                "minirocket": lambda: rocket.predict(X_test[:, None]),
+                "minirocket": lambda rocket=rocket: rocket.predict(X_test[:, None]),
                 **{f"shift_{s}": (lambda c=c: c.predict(X_test)) for s, c in shift.items()},
                 **{
                     f"exhaustive_{s}": (lambda c=c: np.argmin(c.shift_distances(X_test), axis=1))

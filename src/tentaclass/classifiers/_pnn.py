@@ -83,7 +83,8 @@ _DTYPES = {"float64": np.float64, "float32": np.float32}
 
 def _n_threads() -> int:
     """Threads for a large prediction: the CPUs this process may use, at most as
-    many as BLAS may use (so a ``threadpoolctl`` limit applies to the PNN too)."""
+    many as BLAS may use (so a ``threadpoolctl`` limit applies to the PNN too).
+    """
     try:
         cpus = max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
