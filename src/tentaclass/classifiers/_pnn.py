@@ -82,8 +82,10 @@ _DTYPES = {"float64": np.float64, "float32": np.float32}
 
 
 def _n_threads() -> int:
-    """Threads for a large prediction: the CPUs this process may use, at most as
-    many as BLAS may use (so a ``threadpoolctl`` limit applies to the PNN too).
+    """Threads for a large prediction.
+
+    The CPUs this process may use, at most as many as BLAS may use (so a
+    ``threadpoolctl`` limit applies to the PNN too).
     """
     try:
         cpus = max(1, len(os.sched_getaffinity(0)))

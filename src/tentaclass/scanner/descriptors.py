@@ -274,9 +274,11 @@ def measure(mask: np.ndarray) -> Geometry:
 
 
 def _padded_rings(coords: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:
-    """Closed rings stored one after the other (``index``: ring of each vertex, the
-    closing vertex dropped), padded to one length by repeating their first vertex
-    (a zero-length closing segment, which :func:`resample_closed` skips).
+    """Closed rings stored one after the other, padded to one length.
+
+    ``index`` gives the ring of each vertex (closing vertices dropped); rings
+    are padded by repeating their first vertex (a zero-length closing
+    segment, which :func:`resample_closed` skips).
     """
     counts = np.bincount(index, minlength=n)
     first = np.zeros(n + 1, dtype=np.int64)
