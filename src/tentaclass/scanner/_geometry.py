@@ -662,3 +662,41 @@ def bounding_radii(coords, ring_starts):
         a, b = ring_starts[i], ring_starts[i + 1]
         out[i] = bounding_radius(coords[a:b, 0], coords[a:b, 1])
     return out
+
+
+@nb.njit(**_OPTS)
+def open_burrs(filled, starts, heights, widths, candidates, coords, ring_starts):
+    """Cores of the ``candidates``: their filled masks opened where that removes burrs.
+
+    An object's core is its opened filled mask (:func:`opening_cross`) when
+    the hull of its pixel squares (``coords[ring_starts[i]:ring_starts[i + 1]]``)
+    reaches more than 2 pixels beyond the opened mask's hull, i.e. the opening
+    removed something that sticks out (more than the corners an opening
+    rounds off). Returns the cores (flat, as ``filled``; a copy only if some
+    core changed), which objects changed, and the opened hull rings of those
+    (ragged: ``(rings, starts)``, one ring per changed object in order).
+    """
+    core = filled
+    changed = np.zeros(heights.shape[0], dtype=np.bool_)
+    cap = 0
+    for i in candidates:
+        cap += 8 * heights[i] + 2
+    rings = np.empty((cap, 2))
+    starts_out = [0]
+    k = 0
+    for i in candidates:
+        f = _mask_of(filled, starts, heights, widths, i)
+        opened = opening_cross(f)
+        if not opened.any():
+            continue
+        opened_ring = mask_hull(opened, True)
+        ring = coords[ring_starts[i] : ring_starts[i + 1]]
+        if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
+            if not changed.any():
+                core = filled.copy()
+            changed[i] = True
+            core[starts[i] : starts[i] + opened.size] = opened.ravel()
+            rings[k : k + opened_ring.shape[0]] = opened_ring
+            k += opened_ring.shape[0]
+            starts_out.append(k)
+    return core, changed, rings[:k], np.array(starts_out, dtype=np.int64)

@@ -123,7 +123,7 @@ def _enclosing_triangles(hulls: np.ndarray) -> np.ndarray:
     np.copyto(ph, np.pi, where=(ph == -np.pi) & (dd > 0))
     ph -= dd
     np.copyto(ph, 0, where=abs(dd) < np.pi)
-    ph = np.r_[ph, 0.0]
+    ph = np.append(ph, 0.0)
     starts = np.searchsorted(index, np.arange(hulls.size + 1))
     found, tris = geo.triangle_search(normal, c, theta, ph, length, starts)
     out = simple.copy()
@@ -148,7 +148,7 @@ def _expected_outlines(rings: np.ndarray, ring_starts: np.ndarray, labels: Seque
         return out
     hulls = np.empty(n, dtype=object)
     take = np.repeat(poly, counts)
-    hulls[poly] = polygons_from_rings(rings[take], np.r_[0, np.cumsum(counts[poly])])
+    hulls[poly] = polygons_from_rings(rings[take], np.concatenate([[0], np.cumsum(counts[poly])]))
     labels = np.array([str(x) for x in labels])
     rect = poly & ((labels == "square") | (labels == "rectangle"))
     circle = poly & (labels == "circle")
@@ -204,7 +204,7 @@ def _ragged(geoms: np.ndarray, n: int, drop_last: bool = False) -> tuple[np.ndar
     """Coordinates of geometries (``None``: none) one after the other, and their starts."""
     xy, index = shapely.get_coordinates(geoms, return_index=True)
     if drop_last and index.size:
-        last = np.r_[index[1:] != index[:-1], True]
+        last = np.append(index[1:] != index[:-1], True)
         xy, index = xy[~last], index[~last]
     return np.ascontiguousarray(xy), np.searchsorted(index, np.arange(n + 1))
 

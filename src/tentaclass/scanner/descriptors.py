@@ -47,7 +47,7 @@ from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
-from ._geometry import bounding_radii, mask_hull, max_distance_outside, measure_batch, opening_cross
+from ._geometry import bounding_radii, mask_hull, measure_batch, open_burrs
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -205,27 +205,20 @@ def measure_many(
     rects = shapely.oriented_envelope(hulls)
     xy, l1, l2 = _rectangle_sides(rects)
     filled = batch.views(filled_flat)
-    cores = list(filled)
-    core_flat = filled_flat
-    for i in np.flatnonzero(np.minimum(l1, l2) >= 12).tolist():
-        if not opening_radius(min(float(l1[i]), float(l2[i]))):
-            continue
-        # Thin burrs would stretch the hull: if the opening removed something that
-        # sticks out of the opened shape's hull by more than 2 pixels (more than
-        # the corners an opening rounds off), measure the shape without it.
-        opened = opening_cross(filled[i])  # skimage's disk(1): the 3 x 3 cross
-        if not opened.any():
-            continue
-        ring = coords[ring_starts[i] : ring_starts[i + 1]]
-        opened_ring = mask_hull(opened, True)
-        if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
-            if core_flat is filled_flat:
-                core_flat = filled_flat.copy()
-            core_flat[starts[i] : starts[i + 1]] = opened.ravel()
-            cores[i], hulls[i] = opened, shapely.polygons(opened_ring)
-            rects[i] = shapely.oriented_envelope(hulls[i])
-            rxy, r1, r2 = _rectangle_sides(rects[i : i + 1])
-            xy[i], l1[i], l2[i] = rxy[0], r1[0], r2[0]
+    # Thin burrs would stretch the hull: objects wide enough for an opening
+    # (see opening_radius) are measured without what it removes, if that
+    # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
+    wide = [i for i in np.flatnonzero(np.minimum(l1, l2) >= 12).tolist()
+            if opening_radius(min(float(l1[i]), float(l2[i])))]  # fmt: skip
+    core_flat, changed, opened, opened_starts = open_burrs(
+        filled_flat, starts, heights, widths, np.array(wide, dtype=np.int64), coords, ring_starts
+    )
+    cores = filled
+    if changed.any():
+        cores = batch.views(core_flat)
+        hulls[changed] = polygons_from_rings(opened, opened_starts)
+        rects[changed] = shapely.oriented_envelope(hulls[changed])
+        xy[changed], l1[changed], l2[changed] = _rectangle_sides(rects[changed])
     long_edge = np.where((l1 >= l2)[:, None], xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1])
     # rows grow downwards, so the on-screen angle uses -dy
     angles = np.degrees(np.arctan2(-long_edge[:, 1], long_edge[:, 0])).tolist()
@@ -302,7 +295,7 @@ def _hull_features(geoms: Sequence[Geometry], n_points: int, n_coeffs: int) -> n
     area = shapely.area(hulls)
     perimeter = shapely.length(hulls)
     coords, index = shapely.get_coordinates(hulls, return_index=True)
-    last = np.r_[index[1:] != index[:-1], True]  # each ring's closing vertex
+    last = np.append(index[1:] != index[:-1], True)  # each ring's closing vertex
     coords, index = coords[~last], index[~last]
     # shapely.minimum_bounding_radius, compiled (GEOS's algorithm and arithmetic)
     radius = bounding_radii(coords, np.searchsorted(index, np.arange(n + 1)))

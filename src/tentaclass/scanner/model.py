@@ -130,9 +130,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
     def features(self, geometries: Sequence[Geometry]) -> np.ndarray:
         """Descriptor matrix of measured objects (see :func:`.descriptors.measure`)."""
         desc, n_points, n_coeffs = self._check_params()
-        k = len(feature_names(desc, n_coeffs))
         if not geometries:
-            return np.empty((0, k))
+            return np.empty((0, len(feature_names(desc, n_coeffs))))
         return features_matrix(geometries, desc, n_points=n_points, n_coeffs=n_coeffs)
 
     def transform(self, grids: Any) -> np.ndarray:
@@ -191,7 +190,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
     # -- prediction --------------------------------------------------------------------------
     def predict_features_proba(self, X: np.ndarray) -> np.ndarray:
         """Class probabilities from a descriptor matrix (columns in :attr:`classes_` order)."""
-        check_is_fitted(self)
+        if not hasattr(self, "classifier_"):  # (check_is_fitted costs more than a small batch)
+            check_is_fitted(self)
         proba = self.classifier_.predict_proba(X)
         order = np.searchsorted(self.classes_, self.classifier_.classes_)
         out = np.zeros((X.shape[0], self.classes_.size))
