@@ -237,9 +237,9 @@ def test_tentacle_classifier_in_cross_validation_and_grid_search(rng):
     scores = cross_val_score(FourierClassifier(detrend=True), Xs, ys, cv=4)
     assert scores.min() == 1.0
     spreads = [0.05, 0.5, 5.0, 50.0]
-    grid = GridSearchCV(
-        FourierClassifier(), {"spread": spreads}, cv=3, scoring="neg_log_loss"
-    ).fit(Xs, ys)
+    grid = GridSearchCV(FourierClassifier(), {"spread": spreads}, cv=3, scoring="neg_log_loss").fit(
+        Xs, ys
+    )
     # kernels much wider than the gaps between classes flatten the probabilities:
     # the log-loss grows with the spread past the classes' scale
     loss = -grid.cv_results_["mean_test_score"]
