@@ -224,11 +224,14 @@ def find_defects_many(
     settings: DefectSettings,
     extents: Sequence[tuple[float, float, float, float] | None],
     batch: MaskBatch | None = None,
+    offsets: Sequence[tuple[int, int]] | None = None,
 ) -> list[list[Defect]]:
     """:func:`find_defects` of several objects in one batch.
 
     ``batch``: their masks, filled masks and cores flattened, if at hand
-    (:func:`~tentaclass.scanner.descriptors.measure_many` returns it).
+    (:func:`~tentaclass.scanner.descriptors.measure_many` returns it);
+    ``offsets``: ``(row, col)`` added to every defect's coordinates (as
+    :meth:`Defect.shifted` would), default none.
     """
     n = len(geoms)
     if n == 0:
@@ -288,7 +291,9 @@ def find_defects_many(
     ):
         name, note = _KINDS[code]
         depth = 0.0 if code == geo.HOLE else round(depth, 3)
-        out[i].append(Defect(name, size, (r0, c0, r1, c1), (cr, cc), depth, note.format(size)))
+        dr, dc = (0, 0) if offsets is None else offsets[i]
+        box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
+        out[i].append(Defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
     for i in np.unique(ints[:, 0]).tolist():
         # holes, then missing, then extra material, each largest first
         group = {geo.HOLE: 0, geo.BURR: 2}

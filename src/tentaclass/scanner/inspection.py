@@ -99,12 +99,12 @@ def _assemble(
 ) -> Inspection:
     """Record of a measured, classified object cropped at (top, left), with its defects.
 
-    ``defects`` and ``centroid`` (the mean pixel centre) are in mask coordinates.
+    ``defects`` are in grid coordinates, ``centroid`` (the mean pixel centre)
+    in mask coordinates.
     """
-    defects = [d.shifted(top, left) for d in defects]
     bbox = (top, left, top + g.mask.shape[0], left + g.mask.shape[1])
     centroid = (round(centroid[0] + top, 6), round(centroid[1] + left, 6))
-    nominal = _nominal_for(nominal_size, label, model)
+    nominal = None if nominal_size is None else _nominal_for(nominal_size, label, model)
     if nominal is not None:
         d = _size_defect(g, nominal, size_tolerance, bbox, centroid)
         if d is not None:
@@ -114,7 +114,7 @@ def _assemble(
         defects.insert(
             0, Defect("broken", 0, bbox, centroid, 0.0, f"object in {n_pieces} separate pieces")
         )
-    holes = [d for d in defects if d.kind == "hole"]
+    holes = [d for d in defects if d.kind == "hole"] if defects else []
     return Inspection(
         label=label,
         confidence=round(confidence, 6),
@@ -181,7 +181,7 @@ def inspect_masks(
         None if e is None else (e[0] - top, e[1] - left, e[2] - top, e[3] - left)
         for e, (top, left) in zip(extents, offsets, strict=True)
     ]
-    defects = find_defects_many(geoms, labels, settings, shifted, batch)
+    defects = find_defects_many(geoms, labels, settings, shifted, batch, offsets)
     centroids = (sums / np.array([g.area for g in geoms])[:, None]).tolist()
     return [
         _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
