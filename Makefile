@@ -37,7 +37,7 @@ lint: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e '.[test,bench]'
-	$(BIN)/python benchmarks/run_all.py bench_fourier bench_dynamics bench_pnn bench_scanner bench_startup bench_wrap
+	$(BIN)/python benchmarks/run_all.py bench_fourier bench_dynamics bench_pnn bench_scanner bench_shift_nn bench_startup bench_wrap
 
 # about an hour: every MPEG-7 setting against MiniRocket (needs ../shared/data)
 bench-recognition: $(STAMP)

@@ -10,7 +10,9 @@ bare product ``X_test @ X_train.T`` (result discarded: the full 100 000 x
 with BLAS threads, and cache-sized tiles over threads as the PNN does - of
 which the faster counts. All timings come from
 one run on the same data, so the ratios are meaningful even on a busy machine;
-absolute numbers are not.
+absolute numbers are not. Everything runs with BLAS limited to 1 thread and
+then to all CPUs (threadpoolctl); the PNN and the tiled product use as many
+threads as BLAS may.
 
 The data are Gaussian clusters (one per class) in 32 dimensions, the shape
 of Fourier features of 64-link chains; the PNN spread is chosen by
@@ -20,6 +22,7 @@ of Fourier features of 64-link chains; the PNN spread is chosen by
 from __future__ import annotations
 
 import argparse
+import itertools
 import os
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -27,10 +30,10 @@ from pathlib import Path
 
 import numpy as np
 from sklearn.neighbors import KNeighborsClassifier
-from threadpoolctl import threadpool_limits
+from threadpoolctl import threadpool_info, threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _timing import best_time, machine, markdown_table
+from _timing import interleaved, machine, markdown_table
 
 from tentaclass.classifiers import PNNClassifier
 
@@ -60,7 +63,8 @@ def bare_matmul_tiled(
 ) -> None:
     """The same product in cache-sized tiles, row blocks spread over threads, 1 BLAS thread each."""
     pt = np.ascontiguousarray(X_train.T)
-    n_threads = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+    blas = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+    n_threads = min([_cpus(), *blas])
 
     def work(part: np.ndarray) -> None:
         buf = np.empty(rows * cols, dtype=part.dtype)
@@ -73,6 +77,10 @@ def bare_matmul_tiled(
     parts = np.array_split(X_test, 4 * n_threads)
     with threadpool_limits(1, user_api="blas"), ThreadPoolExecutor(n_threads) as pool:
         list(pool.map(work, parts))
+
+
+def _cpus() -> int:
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
 def main(
@@ -88,7 +96,7 @@ def main(
     pnn64 = PNNClassifier(spread="auto").fit(X_train, y_train)
     spread = pnn64.spread_
     results = []
-    for dtype in ("float64", "float32"):
+    for threads, dtype in itertools.product(sorted({1, _cpus()}), ("float64", "float32")):
         Xtr, Xte = X_train.astype(dtype), X_test.astype(dtype)
         pnn = PNNClassifier(spread=spread, dtype=dtype).fit(X_train, y_train)
         knn = KNeighborsClassifier(n_neighbors=1, algorithm="brute").fit(Xtr, y_train)
@@ -100,16 +108,16 @@ def main(
             "blocks": lambda Xte=Xte, Xtr=Xtr: bare_matmul(Xte, Xtr),
             "tiled": lambda Xte=Xte, Xtr=Xtr: bare_matmul_tiled(Xte, Xtr),
         }
-        best = dict.fromkeys(runs, float("inf"))
-        for _ in range(repeat):
-            for key, func in runs.items():
-                best[key] = min(best[key], best_time(func, 1))
+        with threadpool_limits(threads, user_api="blas"):
+            header = machine()
+            best = interleaved(runs, repeat)
         t_pnn, t_knn, t_blocks, t_tiled = (best[k] for k in runs)
         t_bare = min(t_blocks, t_tiled)
         acc_pnn = float(np.mean(pnn.predict(X_test[:2000]) == y_test[:2000]))
         acc_knn = float(np.mean(knn.predict(Xte[:2000]) == y_test[:2000]))
         results.append(
             {
+                "threads": threads,
                 "dtype": dtype,
                 "pnn": t_pnn,
                 "knn": t_knn,
@@ -118,11 +126,13 @@ def main(
                 "bare_tiled": t_tiled,
                 "acc_pnn": acc_pnn,
                 "acc_knn": acc_knn,
+                "machine": header,
             }
         )
     pairs = n_train * n_test
     rows = [
         [
+            r["threads"],
             r["dtype"],
             f"{r['pnn']:.2f}",
             f"{r['knn']:.2f}",
@@ -139,11 +149,12 @@ def main(
     print(
         f"PNN predict, {n_train:,} training x {n_test:,} test arrays of {n_features} features, "
         f"{n_classes} classes, spread {spread:.3g} (auto); times in s, rates in 1e9 pairs/s; "
-        f"{machine()}\n"
+        f"{results[-1]['machine']}\n"
     )
     print(
         markdown_table(
             [
+                "BLAS threads",
                 "dtype",
                 "PNN",
                 "1-NN brute",

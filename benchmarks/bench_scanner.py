@@ -19,8 +19,9 @@ the run-length kernel without any per-object work.
 
 Belts: ``sparse`` (10 objects of 12-40 px per 1000 lines), ``busy`` (150
 objects of 12-30 px on 4000 lines) and ``crowded`` (2500 objects of 8-16 px
-on 4000 lines, where per-object work dominates). BLAS is limited to one
-thread (threadpoolctl); the header gives the machine's load. Run::
+on 4000 lines, where per-object work dominates). Each belt runs with BLAS
+limited to one thread and to all CPUs (threadpoolctl; ``--threads`` to
+choose); the header gives the machine's load. Run::
 
     .venv/bin/python benchmarks/bench_scanner.py
     .venv/bin/python benchmarks/bench_scanner.py --belts busy --repeat 2
@@ -29,6 +30,8 @@ thread (threadpoolctl); the header gives the machine's load. Run::
 from __future__ import annotations
 
 import argparse
+import itertools
+import os
 import sys
 from pathlib import Path
 
@@ -165,14 +168,20 @@ def main(
     chunk_rows: int = 4096,
     seed: int = 0,
     latency: int = 256,
+    threads: tuple[int, ...] | None = None,
 ) -> list[dict]:
-    """Run the benchmark; print a markdown table and return its rows."""
+    """Run the benchmark; print a markdown table and return its rows.
+
+    ``threads``: BLAS thread limits to run each belt with; default 1 and all CPUs.
+    """
+    if threads is None:
+        threads = tuple(sorted({1, os.cpu_count() or 1}))
     model = default_model()
     n_coeffs = model.features([measure(np.ones((3, 3), dtype=bool))]).shape[1] - 5
     results = []
-    with threadpool_limits(1, user_api="blas"):
-        header = machine()
-        for name in belts:
+    for n_threads, name in itertools.product(threads, belts):
+        with threadpool_limits(n_threads, user_api="blas"):
+            header = machine()
             n_lines, n_objects, radii = BELTS[name]
             image, placed = make_test_belt(n_lines, n_objects, radii, seed=seed)
             width = image.shape[1]
@@ -210,6 +219,7 @@ def main(
             rate = {k: n_lines / t for k, t in best.items()}
             results.append(
                 {
+                    "threads": n_threads,
                     "belt": name,
                     "lines": n_lines,
                     "objects": len(found),
@@ -221,6 +231,7 @@ def main(
     print(f"LineScanner, lines of 2048 px, end to end; {header}\n")
     rows = [
         [
+            r["threads"],
             r["belt"],
             f"{r['lines']:,} / {r['objects']:,}",
             f"{r['chunks_lines_per_s']:,}",
@@ -239,6 +250,7 @@ def main(
     print(
         markdown_table(
             [
+                "BLAS threads",
                 "belt",
                 "lines / objects",
                 f"scanner, {chunk_rows}-row feeds (lines/s)",
@@ -265,5 +277,7 @@ if __name__ == "__main__":
     p.add_argument("--chunk-rows", type=int, default=4096)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--latency", type=int, default=256)
+    p.add_argument("--threads", nargs="+", type=int, help="BLAS thread limits (default 1 and all)")
     a = p.parse_args()
-    main(tuple(a.belts), a.repeat, a.chunk_rows, a.seed, a.latency)
+    threads = tuple(a.threads) if a.threads else None
+    main(tuple(a.belts), a.repeat, a.chunk_rows, a.seed, a.latency, threads)

@@ -25,9 +25,18 @@ def test_bench_fourier_smoke(capsys):
 
 def test_bench_pnn_smoke(capsys):
     rows = load("bench_pnn").main(n_train=600, n_test=400, n_features=8, n_classes=3, repeat=1)
-    assert [r["dtype"] for r in rows] == ["float64", "float32"]
+    assert [r["dtype"] for r in rows][:2] == ["float64", "float32"]
+    assert [r["threads"] for r in rows][:2] == [1, 1]
     assert all(r["pnn"] > 0 and r["knn"] > 0 and r["bare"] > 0 for r in rows)
-    assert "1-NN / PNN" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "1-NN / PNN" in out and "load average" in out
+
+
+def test_bench_shift_nn_smoke(capsys):
+    pytest.importorskip("aeon", reason="needs the bench extra (aeon)")
+    rows = load("bench_shift_nn").main(n_train=60, n_test=20, repeat=1, n_classes=3)
+    assert rows and all(float(r[2]) > 0 and float(r[4]) > 0 for r in rows)
+    assert "predict / MiniRocket" in capsys.readouterr().out
 
 
 def test_bench_recognition_quick(tmp_path, capsys):

@@ -15,7 +15,7 @@ def _load(path):
 def test_benchmark_runs_tiny(capsys, monkeypatch):
     module = _load(BENCH)
     monkeypatch.setitem(module.BELTS, "tiny", (300, 6, (5.0, 9.0)))
-    (result,) = module.main(belts=("tiny",), repeat=1, chunk_rows=64)
+    (result,) = module.main(belts=("tiny",), repeat=1, chunk_rows=64, threads=(1,))
     assert result["objects"] == result["placed"] > 0
     assert result["chunks_lines_per_s"] > 0 and result["label_lines_per_s"] > 0
     out = capsys.readouterr().out

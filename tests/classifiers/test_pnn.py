@@ -237,9 +237,9 @@ def test_tentacle_classifier_in_cross_validation_and_grid_search(rng):
     scores = cross_val_score(FourierClassifier(detrend=True), Xs, ys, cv=4)
     assert scores.min() == 1.0
     spreads = [0.05, 0.5, 5.0, 50.0]
-    grid = GridSearchCV(
-        FourierClassifier(), {"spread": spreads}, cv=3, scoring="neg_log_loss"
-    ).fit(Xs, ys)
+    grid = GridSearchCV(FourierClassifier(), {"spread": spreads}, cv=3, scoring="neg_log_loss").fit(
+        Xs, ys
+    )
     # kernels much wider than the gaps between classes flatten the probabilities:
     # the log-loss grows with the spread past the classes' scale
     loss = -grid.cv_results_["mean_test_score"]
@@ -257,3 +257,21 @@ def test_tentacle_classifier_with_another_classifier():
     clf = FourierClassifier(classifier=KNeighborsClassifier(1)).fit(X, y)
     assert clf.predict(np.roll(X, 7, axis=1)).tolist() == y.tolist()
     assert clf.transform(X).shape == (4, 32)
+
+
+def test_row_logsumexp_is_scipys_to_the_last_bit():
+    from scipy.special import logsumexp
+
+    from tentaclass.classifiers._base import _logsumexp_rows
+
+    rng = np.random.default_rng(0)
+    for trial in range(300):
+        a = rng.normal(size=(rng.integers(1, 20), rng.integers(1, 9))) * 10 ** rng.uniform(-3, 3)
+        if trial % 3 == 0:
+            a[rng.random(a.shape) < 0.3] = -np.inf  # whole rows too, at times
+        if trial % 4 == 0:
+            a[:, 0] = a[:, -1]  # equal maxima
+        if trial % 5 == 0:
+            a -= 800  # every exp underflows
+        ref = logsumexp(a, axis=1, keepdims=True)
+        assert np.array_equal(_logsumexp_rows(a), ref, equal_nan=True)

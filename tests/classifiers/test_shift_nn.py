@@ -152,3 +152,30 @@ def test_chord_closure_matches_a_chain_that_stops_short():
 def test_bad_closure_option():
     with pytest.raises(ValueError, match="closure must be"):
         ShiftNNClassifier(signal="shape", closure="zip").fit(np.ones((2, 8)), [0, 1])
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        {"signal": "raw"},
+        {"signal": "turning"},
+        {"signal": "shape"},
+        {"signal": "raw", "mirror": False, "n_harmonics": 0.5, "weight_power": 1.0},
+    ],
+)
+def test_predict_is_the_exhaustive_nearest_neighbour(params):
+    # predict prunes with a lower bound; it must answer what the full distance
+    # matrix answers, also the first of equal distances (duplicated rows)
+    rng = np.random.default_rng(4)
+    t = 2 * np.pi * np.arange(48) / 48
+    base = rng.normal(size=(6, 4, 1)) * np.cos(np.arange(1, 5)[:, None] * t + rng.random((6, 4, 1)))
+    y = rng.integers(0, 6, 300)
+    X = np.stack([np.roll(base[k].sum(0), rng.integers(48)) for k in y])
+    X += 0.4 * rng.normal(size=X.shape)
+    X = np.concatenate([X, X[:40]])
+    y = np.concatenate([y, (y[:40] + 1) % 6])  # the duplicates carry other labels
+    clf = ShiftNNClassifier(**params).fit(X, y)
+    Q = np.concatenate([X[:60] + 0.01 * rng.normal(size=(60, 48)), X[:20]])
+    expected = clf.labels_[np.argmin(clf.shift_distances(Q), axis=1)]
+    assert np.array_equal(clf.labels_[clf._nearest(Q)], expected)
+    assert np.array_equal(clf.predict(Q), clf.classes_[expected])

@@ -73,12 +73,25 @@ def test_opening_and_mask_hull_are_scipys_and_the_point_hulls():
 
 @pytest.mark.parametrize("eight", [True, False])
 def test_groups_are_numbered_and_listed_as_ndimage_does(eight):
-    from tentaclass.scanner.defects import _components
+    from tentaclass.scanner._geometry import label_runs
 
     for m in _masks(seed=5):
         lab, n = ndimage.label(m, np.ones((3, 3), bool) if eight else None)
         idx = ndimage.value_indices(lab, ignore_value=0)
-        got = _components(m, eight)
-        assert len(got) == n
-        for k, (rr, cc) in enumerate(got, 1):
-            assert np.array_equal(rr, idx[k][0]) and np.array_equal(cc, idx[k][1])
+        rr, cc, starts = label_runs(m, eight)
+        assert len(starts) == n + 1
+        for k in range(1, n + 1):
+            a, b = starts[k - 1], starts[k]
+            assert np.array_equal(rr[a:b], idx[k][0]) and np.array_equal(cc[a:b], idx[k][1])
+
+
+@pytest.mark.parametrize("corners", [True, False])
+def test_bounding_radius_is_shapelys_to_the_last_bit(corners):
+    from tentaclass.scanner._geometry import bounding_radii, mask_hull
+
+    rings = [mask_hull(m, corners) for m in _masks(n=600, seed=7)]
+    rings = [r for r in rings if len(r) >= 4]
+    polys = [shapely.polygons(r) for r in rings]
+    starts = np.r_[0, np.cumsum([len(r) - 1 for r in rings])]
+    ours = bounding_radii(np.concatenate([r[:-1] for r in rings]), starts)
+    assert np.array_equal(ours, shapely.minimum_bounding_radius(polys))

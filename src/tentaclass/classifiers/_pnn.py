@@ -19,7 +19,9 @@ for speed and bounded memory:
   sum. The rare tile whose sum overflows its frame (a near pattern after far
   ones) is redone for those rows with an exact shift;
 - row blocks are spread over threads (numpy and BLAS release the GIL), with
-  BLAS itself limited to one thread inside the workers;
+  BLAS itself limited to one thread inside the workers; as many threads as
+  CPUs, but no more than BLAS may use (``threadpoolctl.threadpool_limits``
+  on BLAS limits the PNN too);
 - ``dtype="float32"`` halves the memory traffic and doubles the SIMD width.
 
 ``benchmarks/bench_pnn.py`` measures this against scikit-learn's brute-force
@@ -35,7 +37,7 @@ from typing import Any
 
 import numpy as np
 from sklearn.utils.multiclass import check_classification_targets
-from threadpoolctl import threadpool_limits
+from threadpoolctl import threadpool_info, threadpool_limits
 
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_fraction, check_spread, check_X_y
@@ -80,10 +82,17 @@ _DTYPES = {"float64": np.float64, "float32": np.float32}
 
 
 def _n_threads() -> int:
+    """Threads for a large prediction.
+
+    The CPUs this process may use, at most as many as BLAS may use (so a
+    ``threadpoolctl`` limit applies to the PNN too).
+    """
     try:
-        return max(1, len(os.sched_getaffinity(0)))
+        cpus = max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
-        return max(1, os.cpu_count() or 1)
+        cpus = max(1, os.cpu_count() or 1)
+    blas = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+    return max(1, min([cpus, *blas]))
 
 
 def _sq_dist(a: FloatArray, b: FloatArray, b_sq: FloatArray) -> FloatArray:
@@ -317,6 +326,7 @@ class PNNClassifier(BaseProbabilisticClassifier):
         self._pt = pt
         bounds = np.concatenate([[0], np.cumsum(self.class_count_)])
         self._bounds = bounds
+        self._tiles1 = self._tiles(1, np.dtype(dt).itemsize)  # single-threaded predictions
 
     def _tiles(self, n_threads: int, itemsize: int) -> tuple[int, list[tuple[int, int, int]]]:
         """Rows per tile and the column tiles ``(class, start, stop)``."""
@@ -414,8 +424,8 @@ class PNNClassifier(BaseProbabilisticClassifier):
         xa[:, -2] = 1.0
         xa[:, -1] = -g * np.einsum("ij,ij->i", Xc, Xc)
         work = X.shape[0] * self.patterns_.shape[0]
-        n_threads = min(_n_threads(), max(1, work // _MIN_PARALLEL))
-        rows, tiles = self._tiles(n_threads, dt.itemsize)
+        n_threads = 1 if work < 2 * _MIN_PARALLEL else min(_n_threads(), work // _MIN_PARALLEL)
+        rows, tiles = self._tiles1 if n_threads == 1 else self._tiles(n_threads, dt.itemsize)
         if n_threads == 1:
             lse = self._log_sums(xa, rows, tiles)
         else:

@@ -187,8 +187,11 @@ class ShiftNNClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         check_is_fitted(self)
         X = check_X(self, X, dtype=np.float64, reset=False)
         s = self._signals(X)
-        n = s.shape[1]
         spec, sq = self._spectrum(s)
+        return self._dense_distances(spec, sq, s.shape[1])
+
+    def _dense_distances(self, spec: np.ndarray, sq: FloatArray, n: int) -> FloatArray:
+        """:meth:`shift_distances` from the queries' weighted spectra and squared norms."""
         # corr_b(shift) = sum_j a_j b_{j-shift}: spectrum A * conj(B);
         # the time-reversed b has spectrum conj(B) (up to a shift), so A * B.
         best = self._best_correlation(spec, n, conj_train=True)
@@ -197,9 +200,94 @@ class ShiftNNClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         return np.maximum(sq[:, None] + self.norms_[None, :] - 2 * best, 0.0)
 
     def predict(self, X: ArrayLike) -> np.ndarray:
-        """Class of the nearest training signal, shape (n_queries,)."""
+        """Class of the nearest training signal, shape (n_queries,).
+
+        The same as the class at ``argmin(shift_distances(X), axis=1)``, but
+        the exact distance (an inverse FFT per training signal) is computed
+        only for the training signals a lower bound cannot rule out: the
+        distance between the magnitude spectra, which no shift, mirror image
+        or rotation changes, bounds the shift distance from below.
+        """
         check_is_fitted(self)
-        return self.classes_[self.labels_[np.argmin(self.shift_distances(X), axis=1)]]
+        X = check_X(self, X, dtype=np.float64, reset=False)
+        return self.classes_[self.labels_[self._nearest(X)]]
+
+    def _pair_distances(
+        self, spec: np.ndarray, sq: FloatArray, qi: np.ndarray, ti: np.ndarray, n: int
+    ) -> FloatArray:
+        """Squared shift distances of the pairs (query ``qi``, training signal ``ti``)."""
+        out = np.empty(qi.size)
+        rows = max(1, _BLOCK_BYTES // (16 * spec.shape[1]))
+        complex_signal = self.signal == "shape"
+        for lo in range(0, qi.size, rows):
+            q, t = spec[qi[lo : lo + rows]], self.spectra_[ti[lo : lo + rows]]
+            best = None
+            for train in (np.conj(t), t) if self.mirror else (np.conj(t),):
+                prod = q * train
+                if complex_signal:
+                    corr = np.abs(np.fft.ifft(prod, axis=-1)).max(axis=-1)
+                else:
+                    corr = np.fft.irfft(prod, n=n, axis=-1).max(axis=-1)
+                best = corr if best is None else np.maximum(best, corr)
+            sl = slice(lo, lo + rows)
+            out[sl] = np.maximum(sq[qi[sl]] + self.norms_[ti[sl]] - 2 * best, 0.0)
+        return out
+
+    def _nearest(self, X: FloatArray) -> np.ndarray:
+        """Index of the nearest training signal of each query (first of equals)."""
+        s = self._signals(X)
+        n = s.shape[1]
+        spec, sq = self._spectrum(s)
+        c = np.ones(spec.shape[1])
+        if not np.iscomplexobj(s):
+            c[1 : (n + 1) // 2] = 2.0  # as in _spectrum: rfft holds these frequencies once
+        # sum_k c_k (|A_k| - |B_k|)^2 / n <= the distance under any shift (and
+        # mirror, rotation); a margin covers the rounding of both sides
+        lower = sq[:, None] + self.norms_[None, :]
+        margin = 1e-9 * lower + 1e-300
+        lower -= (2.0 / n) * ((np.abs(spec) * c) @ np.abs(self.spectra_).T)
+        lower -= margin
+        n_q, n_t = lower.shape
+        best = np.full(n_q, np.inf)
+        arg = np.zeros(n_q, dtype=np.int64)
+        done = np.zeros((n_q, n_t), dtype=bool)
+        # the most promising first (by the bound: 4, then 28 more), then whatever
+        # the best so far cannot rule out
+        ranks = [(0, 4), (4, 32)] if n_t > 32 else []
+        if ranks:
+            order = np.argpartition(lower, 31, axis=1)[:, :32]
+            order = np.take_along_axis(
+                order, np.argsort(np.take_along_axis(lower, order, axis=1), axis=1), axis=1
+            )
+        while True:
+            if ranks:
+                a, b = ranks.pop(0)
+                cand = order[:, a:b]
+                keep = lower[np.arange(n_q)[:, None], cand] <= best[:, None]
+                qi, ti = np.nonzero(keep)
+                ti = cand[qi, ti]
+                if qi.size == 0:
+                    continue
+            else:
+                pending = ~done & (lower <= best[:, None])
+                # a query the bound helps little with: all its distances at once
+                dense = np.flatnonzero(pending.sum(axis=1) > n_t // 4)
+                if dense.size:
+                    d2 = self._dense_distances(spec[dense], sq[dense], n)
+                    arg[dense], best[dense] = np.argmin(d2, axis=1), -np.inf  # settled
+                    pending[dense] = False
+                qi, ti = np.nonzero(pending)
+                if qi.size == 0:
+                    return arg
+            done[qi, ti] = True
+            d2 = self._pair_distances(spec, sq, qi, ti, n)
+            # per query: the smallest distance, the first index among equals
+            by = np.lexsort((ti, d2, qi))
+            qi, ti, d2 = qi[by], ti[by], d2[by]
+            head = np.r_[True, qi[1:] != qi[:-1]]
+            q, t, d = qi[head], ti[head], d2[head]
+            better = (d < best[q]) | ((d == best[q]) & (t < arg[q]))
+            best[q[better]], arg[q[better]] = d[better], t[better]
 
 
 def _closed_polygon(q: FloatArray, closure: str = "spread") -> np.ndarray:

@@ -105,7 +105,10 @@ def _rebuild_knn(est: Any) -> None:
 #: Attributes not stored for a class (caches rebuilt from the state, or helpers
 #: that only matter for further training), and what rebuilds them on loading.
 _DERIVED: dict[str, tuple[tuple[str, ...], Callable[[Any], None] | None]] = {
-    "PNNClassifier": (("_center", "_gamma", "_pt", "_bounds"), lambda est: est._prepare()),
+    "PNNClassifier": (
+        ("_center", "_gamma", "_pt", "_bounds", "_tiles1"),
+        lambda est: est._prepare(),
+    ),
     "MLPClassifier": (("_optimizer", "_random_state"), None),
     "FixedEpochsMLPClassifier": (("_optimizer", "_random_state"), None),
     "KNeighborsClassifier": (("_tree",), _rebuild_knn),

@@ -262,3 +262,441 @@ def row_extremes(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     first = sub.argmax(axis=1)
     last = mask.shape[1] - 1 - sub[:, ::-1].argmax(axis=1)
     return rows, first, last
+
+
+# -- batches: masks concatenated in one flat buffer ---------------------------------------------
+# Object i's mask is ``flat[starts[i]:starts[i] + heights[i] * widths[i]]`` (C order).
+
+
+@nb.njit(**_OPTS)
+def _mask_of(flat, starts, heights, widths, i):
+    return flat[starts[i] : starts[i] + heights[i] * widths[i]].reshape((heights[i], widths[i]))
+
+
+@nb.njit(**_OPTS)
+def hulls_batch(flat, starts, heights, widths, corners):
+    """:func:`mask_hull` of every mask: ragged ``(coords, ring_starts)``."""
+    n = heights.shape[0]
+    cap = 0
+    for i in range(n):
+        cap += 8 * heights[i] + 2
+    coords = np.empty((cap, 2))
+    ring_starts = np.zeros(n + 1, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        ring = mask_hull(_mask_of(flat, starts, heights, widths, i), corners)
+        coords[k : k + ring.shape[0]] = ring
+        k += ring.shape[0]
+        ring_starts[i + 1] = k
+    return coords[:k], ring_starts
+
+
+@nb.njit(**_OPTS)
+def measure_batch(flat, starts, heights, widths):
+    """Filled masks (flat, as ``flat``), pixel-square hull rings, areas and row/column sums."""
+    n = heights.shape[0]
+    filled = np.empty(flat.shape[0], dtype=np.bool_)
+    area = np.zeros(n, dtype=np.int64)
+    sums = np.zeros((n, 2))
+    for i in range(n):
+        m = _mask_of(flat, starts, heights, widths, i)
+        filled[starts[i] : starts[i] + m.size] = fill_holes(m).ravel()
+        a = 0
+        sr = 0
+        sc = 0
+        for r in range(m.shape[0]):
+            for c in range(m.shape[1]):
+                if m[r, c]:
+                    a += 1
+                    sr += r
+                    sc += c
+        area[i] = a
+        sums[i, 0] = sr
+        sums[i, 1] = sc
+    coords, ring_starts = hulls_batch(flat, starts, heights, widths, True)
+    return filled, coords, ring_starts, area, sums
+
+
+@nb.njit(**_OPTS)
+def triangle_search(normal, c, theta, ph_correct, length, starts):
+    """Smallest triangle on hull edge lines for each ragged group of edges.
+
+    ``theta`` are the edge normals' angles and ``ph_correct`` the
+    corrections :func:`numpy.unwrap` adds (cumulated here, as it does); the
+    12 longest edges of each group are searched. Returns ``found`` (False
+    where no triple qualifies) and the triangles ``(n, 3, 2)``.
+    """
+    n = starts.shape[0] - 1
+    found = np.zeros(n, dtype=np.bool_)
+    tris = np.zeros((n, 3, 2))
+    for i in range(n):
+        a, b = starts[i], starts[i + 1]
+        m = b - a
+        if m < 3:
+            continue
+        up = np.empty(m)
+        up[0] = theta[a]
+        s = 0.0
+        for k in range(1, m):
+            s += ph_correct[a + k - 1]
+            up[k] = theta[a + k] + s
+        order = np.argsort(-length[a:b], kind="mergesort")
+        top = np.sort(order[: min(12, m)])
+        k, tri = _best_triangle(normal[a:b][top], c[a:b][top], up[top])
+        if k >= 0:
+            found[i] = True
+            tris[i] = tri
+    return found, tris
+
+
+@nb.njit(**_OPTS)
+def _meet(normal, c, i, j):
+    """Where the lines ``normal[i] . p = c[i]`` and ``normal[j] . p = c[j]`` cross."""
+    det = normal[i, 0] * normal[j, 1] - normal[i, 1] * normal[j, 0]
+    x = (c[i] * normal[j, 1] - c[j] * normal[i, 1]) / det
+    y = (normal[i, 0] * c[j] - normal[j, 0] * c[i]) / det
+    return x, y
+
+
+@nb.njit(**_OPTS)
+def _best_triangle(normal, c, theta):
+    """Smallest triangle on three of the lines whose normals span less than pi each.
+
+    Triples are tried in lexicographic order and the first smallest kept;
+    returns its index (-1 if no triple qualifies) and vertices.
+    """
+    m = c.shape[0]
+    best = np.inf
+    k = -1
+    n = 0
+    tri = np.zeros((3, 2))
+    for i in range(m):
+        for j in range(i + 1, m):
+            for q in range(j + 1, m):
+                if not (
+                    theta[j] - theta[i] < np.pi - 1e-6
+                    and theta[q] - theta[j] < np.pi - 1e-6
+                    and 2 * np.pi - (theta[q] - theta[i]) < np.pi - 1e-6
+                ):
+                    continue
+                ax, ay = _meet(normal, c, i, j)
+                bx, by = _meet(normal, c, j, q)
+                vx, vy = _meet(normal, c, q, i)
+                area = 0.5 * np.abs((bx - ax) * (vy - ay) - (by - ay) * (vx - ax))
+                if area < best:
+                    best, k = area, n
+                    tri[0, 0], tri[0, 1] = ax, ay
+                    tri[1, 0], tri[1, 1] = bx, by
+                    tri[2, 0], tri[2, 1] = vx, vy
+                n += 1
+    return k, tri
+
+
+# codes of the groups defect_groups reports
+HOLE, TRUNCATED, BROKEN_CORNER, BITE, BURR = range(5)
+
+
+@nb.njit(**_OPTS)
+def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
+    """Signed distance of each canvas pixel centre to a convex outline (> 0 inside).
+
+    ``kind`` 2: a circle centred at ``circle`` through the farthest point of
+    ``ring``; else the polygon ``ring`` (closed, counter-clockwise): exact
+    inside, outside the distance to the farthest edge line (mitre-style),
+    which keeps corners sharp.
+    """
+    sd = np.empty((h, w))
+    if kind == 2:
+        cx, cy = circle[0], circle[1]
+        r = -np.inf
+        for k in range(ring.shape[0]):
+            r = max(r, np.hypot(ring[k, 0] - cx, ring[k, 1] - cy))
+        for i in range(h):
+            for j in range(w):
+                sd[i, j] = r - np.hypot(float(j) + lo1 - cx, float(i) + lo0 - cy)
+        return sd
+    m = ring.shape[0] - 1
+    c = np.empty(m)
+    nx = np.empty(m)
+    ny = np.empty(m)
+    e = 0
+    for k in range(m):
+        dx = ring[k + 1, 0] - ring[k, 0]
+        dy = ring[k + 1, 1] - ring[k, 1]
+        length = np.hypot(dx, dy)
+        if length > 1e-9:
+            nx[e] = dy / length
+            ny[e] = -dx / length
+            c[e] = nx[e] * ring[k, 0] + ny[e] * ring[k, 1]
+            e += 1
+    for i in range(h):
+        row = float(i) + lo0
+        for j in range(w):
+            col = float(j) + lo1
+            best = np.inf
+            for k in range(e):
+                v = (c[k] - nx[k] * col) - ny[k] * row
+                if v < best:
+                    best = v
+            sd[i, j] = best
+    return sd
+
+
+@nb.njit(**_OPTS)
+def defect_groups(
+    flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts,
+    vert_starts, circles, limits, extents, margin, min_hole_area, min_burr_area,
+):  # fmt: skip
+    """Holes, and groups of missing and extra pixels large and deep enough, of every object.
+
+    Object ``i`` (mask and filled mask in the flat buffers) is compared with
+    its expected outline: ``kind[i]`` 0 none (holes only), 1 the polygon
+    ``rings[ring_starts[i]:ring_starts[i + 1]]`` (closed, counter-clockwise),
+    2 a circle centred at ``circles[i]`` through the farthest of those
+    points; on a canvas of ``canvas[i]`` pixels whose top-left pixel is at
+    ``lo[i]`` in mask coordinates. ``limits[i]`` are the smallest area and
+    depth of a group, the corner radius and a fifth of the outline's area;
+    ``extents[i]`` the grid in mask coordinates; ``verts`` the outline
+    vertices that mark broken corners.
+
+    Returns ``ints`` (one row per group: object, code, area, row0, col0, row1,
+    col1; box in mask coordinates) and ``floats`` (centroid row, column,
+    depth). Groups come per object as holes, missing, extra, each in
+    :func:`scipy.ndimage.label` order.
+    """
+    n = heights.shape[0]
+    cap = 16
+    ints = np.empty((cap, 7), dtype=np.int64)
+    floats = np.empty((cap, 3))
+    g = 0
+    for i in range(n):
+        m = _mask_of(flat, starts, heights, widths, i)
+        f = _mask_of(filled, starts, heights, widths, i)
+        h, w = m.shape
+        sd = np.empty((0, 0))
+        cm = np.zeros((0, 0), dtype=np.bool_)
+        cf = np.zeros((0, 0), dtype=np.bool_)
+        if kind[i] != 0:
+            ch, cw = canvas[i, 0], canvas[i, 1]
+            a, b = ring_starts[i], ring_starts[i + 1]
+            sd = _signed_distance(kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw)
+            cm = np.zeros((ch, cw), dtype=np.bool_)
+            cf = np.zeros((ch, cw), dtype=np.bool_)
+            cm[-lo[i, 0] : -lo[i, 0] + h, -lo[i, 1] : -lo[i, 1] + w] = m
+            cf[-lo[i, 0] : -lo[i, 0] + h, -lo[i, 1] : -lo[i, 1] + w] = f
+        for group in range(3):
+            lo0, lo1 = lo[i, 0], lo[i, 1]
+            smallest = float(min_hole_area)
+            if group == 0:
+                region = f & ~m
+                lo0, lo1 = 0, 0
+            elif kind[i] == 0:
+                break
+            elif group == 1:
+                region = (sd >= margin) & ~cf
+                smallest = limits[i, 0]
+            else:
+                region = cm & (sd < -(1.0 + margin))
+                smallest = min_burr_area
+            if not region.any():
+                continue
+            rr, cc, gs = label_runs(region, group != 0)
+            for q in range(gs.shape[0] - 1):
+                a, b = gs[q], gs[q + 1]
+                size = b - a
+                if size < smallest:
+                    continue
+                depth = 0.0
+                code = HOLE
+                if group == 1:
+                    # how far the gap reaches from the remaining material (the
+                    # exact Euclidean distance transform of ~filled, at its maximum)
+                    for p in range(a, b):
+                        best = np.inf
+                        for y in range(h):
+                            for x in range(w):
+                                if f[y, x]:
+                                    dy = rr[p] - (y - lo0)
+                                    dx = cc[p] - (x - lo1)
+                                    best = min(best, float(dy * dy + dx * dx))
+                        depth = max(depth, np.sqrt(best))
+                elif group == 2:
+                    depth = np.inf
+                    for p in range(a, b):
+                        depth = min(depth, sd[rr[p], cc[p]])
+                    depth = -depth
+                if group != 0 and depth < limits[i, 1]:
+                    continue
+                if group == 2:
+                    code = BURR
+                elif group == 1:
+                    inside = True
+                    for p in range(a, b):
+                        r, c = rr[p] + lo0, cc[p] + lo1
+                        if not (
+                            r >= extents[i, 0]
+                            and r < extents[i, 2]
+                            and c >= extents[i, 1]
+                            and c < extents[i, 3]
+                        ):
+                            inside = False
+                    if size >= limits[i, 3] or not inside:
+                        code = TRUNCATED
+                    else:
+                        code = BITE
+                        near = np.inf
+                        for v in range(vert_starts[i], vert_starts[i + 1]):
+                            vx, vy = verts[v, 0] - lo1, verts[v, 1] - lo0
+                            for p in range(a, b):
+                                near = min(near, np.hypot(vx - cc[p], vy - rr[p]))
+                        if near <= limits[i, 2]:
+                            code = BROKEN_CORNER
+                if g == cap:
+                    cap *= 2
+                    ints2 = np.empty((cap, 7), dtype=np.int64)
+                    floats2 = np.empty((cap, 3))
+                    ints2[:g] = ints[:g]
+                    floats2[:g] = floats[:g]
+                    ints, floats = ints2, floats2
+                r0, c0, r1, c1 = rr[a], cc[a], rr[a], cc[a]
+                sr, sc = 0, 0
+                for p in range(a, b):
+                    r0, r1 = min(r0, rr[p]), max(r1, rr[p])
+                    c0, c1 = min(c0, cc[p]), max(c1, cc[p])
+                    sr += rr[p]
+                    sc += cc[p]
+                ints[g, 0], ints[g, 1], ints[g, 2] = i, code, size
+                ints[g, 3], ints[g, 4] = r0 + lo0, c0 + lo1
+                ints[g, 5], ints[g, 6] = r1 + lo0 + 1, c1 + lo1 + 1
+                floats[g, 0] = sr / size + lo0
+                floats[g, 1] = sc / size + lo1
+                floats[g, 2] = depth
+                g += 1
+    return ints[:g], floats[:g]
+
+
+@nb.njit(**_OPTS)
+def _angle_between(tip1x, tip1y, tailx, taily, tip2x, tip2y):
+    a1 = np.arctan2(tip1y - taily, tip1x - tailx)
+    a2 = np.arctan2(tip2y - taily, tip2x - tailx)
+    d = a2 - a1 if a1 < a2 else a1 - a2
+    if d > np.pi:
+        d = 2 * np.pi - d
+    return d
+
+
+@nb.njit(**_OPTS)
+def _obtuse(x0, y0, x1, y1, x2, y2):
+    """Whether the angle at ``(x1, y1)`` is obtuse."""
+    return (x0 - x1) * (x2 - x1) + (y0 - y1) * (y2 - y1) < 0
+
+
+@nb.njit(**_OPTS)
+def bounding_radius(px, py):
+    """Radius of the smallest circle around a convex ring's vertices (not closed).
+
+    The algorithm and arithmetic of GEOS's MinimumBoundingCircle (walk from
+    the lowest point, then the point of least angle with the x axis, to the
+    pair or triple of points that fixes the circle), so the radius is the one
+    :func:`shapely.minimum_bounding_radius` gives for the same ring.
+    """
+    n = px.shape[0]
+    if n == 1:
+        return 0.0
+    if n == 2:
+        cx, cy = (px[0] + px[1]) / 2.0, (py[0] + py[1]) / 2.0
+        return np.sqrt((cx - px[0]) ** 2 + (cy - py[0]) ** 2)
+    p = 0
+    for i in range(n):
+        if py[i] < py[p]:
+            p = i
+    q = -1
+    best = np.finfo(np.float64).max
+    for i in range(n):
+        if px[i] == px[p] and py[i] == py[p]:
+            continue
+        dx = px[i] - px[p]
+        dy = abs(py[i] - py[p])
+        s = dy / np.sqrt(dx * dx + dy * dy)
+        if s < best:
+            best, q = s, i
+    for _ in range(n):
+        r = -1
+        best = np.finfo(np.float64).max
+        for i in range(n):
+            if (px[i] == px[p] and py[i] == py[p]) or (px[i] == px[q] and py[i] == py[q]):
+                continue
+            ang = _angle_between(px[p], py[p], px[i], py[i], px[q], py[q])
+            if ang < best:
+                best, r = ang, i
+        if _obtuse(px[p], py[p], px[r], py[r], px[q], py[q]):
+            cx, cy = (px[p] + px[q]) / 2.0, (py[p] + py[q]) / 2.0
+            dx, dy = cx - px[p], cy - py[p]
+            return np.sqrt(dx * dx + dy * dy)
+        if _obtuse(px[r], py[r], px[p], py[p], px[q], py[q]):
+            p = r
+            continue
+        if _obtuse(px[r], py[r], px[q], py[q], px[p], py[p]):
+            q = r
+            continue
+        # the circumcentre of P, Q, R
+        ccx, ccy = px[r], py[r]
+        ax, ay = px[p] - ccx, py[p] - ccy
+        bx, by = px[q] - ccx, py[q] - ccy
+        denom = 2 * (ax * by - ay * bx)
+        numx = ay * (bx * bx + by * by) - (ax * ax + ay * ay) * by
+        numy = ax * (bx * bx + by * by) - (ax * ax + ay * ay) * bx
+        cx = ccx - numx / denom
+        cy = ccy + numy / denom
+        dx, dy = cx - px[p], cy - py[p]
+        return np.sqrt(dx * dx + dy * dy)
+    return np.nan
+
+
+@nb.njit(**_OPTS)
+def bounding_radii(coords, ring_starts):
+    """:func:`bounding_radius` of each ring stored one after the other (not closed)."""
+    n = ring_starts.shape[0] - 1
+    out = np.empty(n)
+    for i in range(n):
+        a, b = ring_starts[i], ring_starts[i + 1]
+        out[i] = bounding_radius(coords[a:b, 0], coords[a:b, 1])
+    return out
+
+
+@nb.njit(**_OPTS)
+def open_burrs(filled, starts, heights, widths, candidates, coords, ring_starts):
+    """Cores of the ``candidates``: their filled masks opened where that removes burrs.
+
+    An object's core is its opened filled mask (:func:`opening_cross`) when
+    the hull of its pixel squares (``coords[ring_starts[i]:ring_starts[i + 1]]``)
+    reaches more than 2 pixels beyond the opened mask's hull, i.e. the opening
+    removed something that sticks out (more than the corners an opening
+    rounds off). Returns the cores (flat, as ``filled``; a copy only if some
+    core changed), which objects changed, and the opened hull rings of those
+    (ragged: ``(rings, starts)``, one ring per changed object in order).
+    """
+    core = filled
+    changed = np.zeros(heights.shape[0], dtype=np.bool_)
+    cap = 0
+    for i in candidates:
+        cap += 8 * heights[i] + 2
+    rings = np.empty((cap, 2))
+    starts_out = [0]
+    k = 0
+    for i in candidates:
+        f = _mask_of(filled, starts, heights, widths, i)
+        opened = opening_cross(f)
+        if not opened.any():
+            continue
+        opened_ring = mask_hull(opened, True)
+        ring = coords[ring_starts[i] : ring_starts[i + 1]]
+        if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
+            if not changed.any():
+                core = filled.copy()
+            changed[i] = True
+            core[starts[i] : starts[i] + opened.size] = opened.ravel()
+            rings[k : k + opened_ring.shape[0]] = opened_ring
+            k += opened_ring.shape[0]
+            starts_out.append(k)
+    return core, changed, rings[:k], np.array(starts_out, dtype=np.int64)

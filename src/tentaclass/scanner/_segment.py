@@ -264,14 +264,31 @@ def scan_rows(
 
 
 @nb.njit(**_OPTS)
-def paint(out_runs, start, stop, top, left, height, width):
-    """The mask of one output object from its runs."""
-    mask = np.zeros((height, width), dtype=np.bool_)
-    for m in range(start, stop):
-        row = out_runs[m, 0] - top
-        for c in range(out_runs[m, 1] - left, out_runs[m, 2] - left):
-            mask[row, c] = True
-    return mask
+def paint_all(out, out_runs):
+    """Masks of all output objects in one flat buffer: ``(flat, starts, heights, widths)``.
+
+    Each mask spans its object's rows and the columns from its first to its
+    last pixel (C order).
+    """
+    n = out.shape[0]
+    heights = np.empty(n, dtype=np.int64)
+    widths = np.empty(n, dtype=np.int64)
+    starts = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        maxc = 0
+        for m in range(out[i, 5], out[i, 6]):
+            maxc = max(maxc, out_runs[m, 2])
+        heights[i] = out[i, 2] - out[i, 1] + 1
+        widths[i] = maxc - out[i, 3]
+        starts[i + 1] = starts[i] + heights[i] * widths[i]
+    flat = np.zeros(starts[n], dtype=np.bool_)
+    for i in range(n):
+        top, left, w = out[i, 1], out[i, 3], widths[i]
+        for m in range(out[i, 5], out[i, 6]):
+            base = starts[i] + (out_runs[m, 0] - top) * w - left
+            for c in range(out_runs[m, 1], out_runs[m, 2]):
+                flat[base + c] = True
+    return flat, starts, heights, widths
 
 
 def new_pools(width: int, n_labels: int, n_runs: int) -> dict:

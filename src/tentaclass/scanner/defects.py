@@ -21,16 +21,14 @@ and deep enough (see :class:`DefectSettings`).
 
 from __future__ import annotations
 
-import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 import shapely
-from scipy import ndimage
 
-from ._geometry import label_runs
-from .descriptors import Geometry, pixel_hull
+from . import _geometry as geo
+from .descriptors import Geometry, MaskBatch, flatten_masks, polygons_from_rings
 from .records import Defect
 
 __all__ = ["DefectSettings", "expected_outline", "find_defects"]
@@ -98,84 +96,86 @@ class DefectSettings:
         return min(self.min_depth, max(1.0, 0.2 * object_width))
 
 
-@nb.njit(cache=True, nogil=True)
-def _meet(normal: np.ndarray, c: np.ndarray, i: int, j: int) -> tuple[float, float]:
-    """Where the lines ``normal[i] . p = c[i]`` and ``normal[j] . p = c[j]`` cross."""
-    det = normal[i, 0] * normal[j, 1] - normal[i, 1] * normal[j, 0]
-    x = (c[i] * normal[j, 1] - c[j] * normal[i, 1]) / det
-    y = (normal[i, 0] * c[j] - normal[j, 0] * c[i]) / det
-    return x, y
-
-
-@nb.njit(cache=True, nogil=True)
-def _best_triangle(normal: np.ndarray, c: np.ndarray, theta: np.ndarray) -> tuple:
-    """Smallest triangle on three of the lines whose normals span less than pi each.
-
-    Triples are tried in lexicographic order and the first smallest kept;
-    returns its index (-1 if no triple qualifies) and vertices.
-    """
-    m = c.shape[0]
-    best = np.inf
-    k = -1
-    n = 0
-    tri = np.zeros((3, 2))
-    for i in range(m):
-        for j in range(i + 1, m):
-            for q in range(j + 1, m):
-                if not (
-                    theta[j] - theta[i] < np.pi - 1e-6
-                    and theta[q] - theta[j] < np.pi - 1e-6
-                    and 2 * np.pi - (theta[q] - theta[i]) < np.pi - 1e-6
-                ):
-                    continue
-                ax, ay = _meet(normal, c, i, j)
-                bx, by = _meet(normal, c, j, q)
-                vx, vy = _meet(normal, c, q, i)
-                area = 0.5 * np.abs((bx - ax) * (vy - ay) - (by - ay) * (vx - ax))
-                if area < best:
-                    best, k = area, n
-                    tri[0, 0], tri[0, 1] = ax, ay
-                    tri[1, 0], tri[1, 1] = bx, by
-                    tri[2, 0], tri[2, 1] = vx, vy
-                n += 1
-    return k, tri
-
-
-def _enclosing_triangle(hull: shapely.Polygon) -> shapely.Polygon:
-    """Smallest triangle with each side on a line through an edge of ``hull``.
+def _enclosing_triangles(hulls: np.ndarray) -> np.ndarray:
+    """Smallest triangle with each side on a line through an edge of each hull.
 
     Every such triangle encloses the hull (each side is a supporting line), so
     a chamfered (broken) corner is bridged by the two sides next to it. This
     is the classic result that a minimal enclosing triangle has a side flush
     with the polygon, applied to all three sides: no library offers it, and a
-    vectorised search over edge triples is fast for hulls of tens of edges.
+    search over edge triples is fast for hulls of tens of edges. The hulls
+    are simplified first (tolerance 0.25 px), and the sides lie on the 12
+    longest edges; a hull with no qualifying triple stays (simplified).
     """
-    hull = shapely.simplify(hull, 0.25)
-    xy = np.asarray(shapely.orient_polygons(hull).exterior.coords)
+    simple = shapely.simplify(hulls, 0.25)
+    xy, index = shapely.get_coordinates(shapely.orient_polygons(simple), return_index=True)
     d = np.diff(xy, axis=0)
-    keep = np.hypot(d[:, 0], d[:, 1]) > 1e-9
-    p, d = xy[:-1][keep], d[keep]
-    if len(d) < 3:
-        return hull
+    keep = (index[1:] == index[:-1]) & (np.hypot(d[:, 0], d[:, 1]) > 1e-9)
+    p, d, index = xy[:-1][keep], d[keep], index[:-1][keep]
     normal = np.stack([d[:, 1], -d[:, 0]], axis=1)  # outward for a CCW ring
     length = np.hypot(normal[:, 0], normal[:, 1])
     normal /= length[:, None]
     c = np.einsum("ij,ij->i", normal, p)
-    theta = np.unwrap(np.arctan2(normal[:, 1], normal[:, 0]))
-    # The sides lie on long edges: search the 12 longest, in ring order.
-    top = np.sort(np.argsort(-length, kind="stable")[:12])
-    normal, c, theta = normal[top], c[top], theta[top]
-    k, tri = _best_triangle(normal, c, theta)
-    return shapely.Polygon(tri) if k >= 0 else hull
+    theta = np.arctan2(normal[:, 1], normal[:, 0])
+    # numpy.unwrap's corrections within each hull (cumulated by the kernel)
+    dd = np.diff(theta)
+    ph = np.mod(dd + np.pi, 2 * np.pi) - np.pi
+    np.copyto(ph, np.pi, where=(ph == -np.pi) & (dd > 0))
+    ph -= dd
+    np.copyto(ph, 0, where=abs(dd) < np.pi)
+    ph = np.append(ph, 0.0)
+    starts = np.searchsorted(index, np.arange(hulls.size + 1))
+    found, tris = geo.triangle_search(normal, c, theta, ph, length, starts)
+    out = simple.copy()
+    out[found] = shapely.polygons(tris[found])
+    return out
 
 
-def _centre_hull(core: np.ndarray) -> shapely.Geometry:
-    """Hull of the pixel centres of the object's core (burrs opened away)."""
-    return pixel_hull(core, corners=False)
+def _expected_outlines(rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence) -> np.ndarray:
+    """:func:`expected_outline` of each centre hull ring (rings one after the other)."""
+    n = ring_starts.size - 1
+    counts = np.diff(ring_starts)
+    poly = counts >= 4
+    out = np.empty(n, dtype=object)
+    # degenerate hulls (all centres on a line) as shapely's convex_hull gives them
+    for k, make in ((1, shapely.points), (2, shapely.linestrings)):
+        sel = counts == k
+        if sel.any():
+            take = np.repeat(sel, counts)
+            index = np.repeat(np.arange(int(sel.sum())), k)
+            out[sel] = make(rings[take], indices=index) if k == 2 else make(rings[take])
+    if not poly.any():
+        return out
+    hulls = np.empty(n, dtype=object)
+    take = np.repeat(poly, counts)
+    hulls[poly] = polygons_from_rings(rings[take], np.concatenate([[0], np.cumsum(counts[poly])]))
+    labels = np.array([str(x) for x in labels])
+    rect = poly & ((labels == "square") | (labels == "rectangle"))
+    circle = poly & (labels == "circle")
+    triangle = poly & (labels == "triangle")
+    other = poly & ~(rect | circle | triangle)
+    out[rect] = shapely.oriented_envelope(hulls[rect])
+    out[circle] = shapely.minimum_bounding_circle(hulls[circle])
+    if triangle.any():
+        out[triangle] = _enclosing_triangles(hulls[triangle])
+    out[other] = hulls[other]
+    return out
+
+
+def _centre_rings(cores: MaskBatch) -> tuple[np.ndarray, np.ndarray]:
+    """Hull rings of the pixel centres of each object's core (burrs opened away)."""
+    return geo.hulls_batch(*cores[:4], False)
 
 
 def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:
     """The outline expected for an object of class ``label``, fitted to it.
+
+    - square, rectangle: the minimum rotated rectangle of the hull;
+    - triangle: the smallest triangle whose sides lie on edges of the hull;
+    - circle: the minimum bounding circle of the hull;
+    - any other (user) class: the convex hull itself.
+
+    The hull is that of the pixel centres of the object's core.
 
     Parameters
     ----------
@@ -197,70 +197,111 @@ def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:
     >>> expected_outline(g, "rectangle").bounds
     (0.0, 0.0, 3.0, 2.0)
     """
-    hull = _centre_hull(g.core)
-    if hull.geom_type != "Polygon":
-        return hull
-    if label in ("square", "rectangle"):
-        return shapely.oriented_envelope(hull)
-    if label == "circle":
-        return shapely.minimum_bounding_circle(hull)
-    if label == "triangle":
-        return _enclosing_triangle(hull)
-    return hull
+    return _expected_outlines(*_centre_rings(flatten_masks([g.core])), [label])[0]
 
 
-def _signed_distance(
-    outline: shapely.Geometry, label: str | None, shape: tuple[int, int], lo: np.ndarray
-) -> np.ndarray:
-    """Signed distance of each canvas pixel centre to a convex outline (> 0 inside).
+def _ragged(geoms: np.ndarray, n: int, drop_last: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Coordinates of geometries (``None``: none) one after the other, and their starts."""
+    xy, index = shapely.get_coordinates(geoms, return_index=True)
+    if drop_last and index.size:
+        last = np.append(index[1:] != index[:-1], True)
+        xy, index = xy[~last], index[~last]
+    return np.ascontiguousarray(xy), np.searchsorted(index, np.arange(n + 1))
 
-    Exact inside; outside, the distance to the farthest edge line (mitre-style),
-    which keeps corners sharp. Written out because rasterising buffered
-    polygons with skimage.draw costs several times more for these small canvases.
+
+_KINDS = {
+    geo.HOLE: ("hole", "hole of {} px"),
+    geo.TRUNCATED: ("truncated", "part missing, {} px"),
+    geo.BROKEN_CORNER: ("broken_corner", "corner missing, {} px"),
+    geo.BITE: ("bite", "material missing, {} px"),
+    geo.BURR: ("burr", "extra material, {} px"),
+}
+
+
+def find_defects_many(
+    geoms: Sequence[Geometry],
+    labels: Sequence[str | None],
+    settings: DefectSettings,
+    extents: Sequence[tuple[float, float, float, float] | None],
+    batch: MaskBatch | None = None,
+    offsets: Sequence[tuple[int, int]] | None = None,
+) -> list[list[Defect]]:
+    """:func:`find_defects` of several objects in one batch.
+
+    ``batch``: their masks, filled masks and cores flattened, if at hand
+    (:func:`~tentaclass.scanner.descriptors.measure_many` returns it);
+    ``offsets``: ``(row, col)`` added to every defect's coordinates (as
+    :meth:`Defect.shifted` would), default none.
     """
-    rows = np.arange(shape[0], dtype=float)[:, None] + lo[0]
-    cols = np.arange(shape[1], dtype=float)[None, :] + lo[1]
-    if label == "circle":
-        c = outline.centroid
-        r = float(np.max(np.hypot(*(np.asarray(outline.exterior.coords) - (c.x, c.y)).T)))
-        return r - np.hypot(cols - c.x, rows - c.y)
-    xy = np.asarray(shapely.orient_polygons(outline).exterior.coords)
-    d = np.diff(xy, axis=0)
-    length = np.hypot(d[:, 0], d[:, 1])
-    keep = length > 1e-9
-    p, d, length = xy[:-1][keep], d[keep], length[keep]
-    nx, ny = d[:, 1] / length, -d[:, 0] / length  # outward normals of a CCW ring
-    c = nx * p[:, 0] + ny * p[:, 1]
-    return _edge_distance(c, nx, ny, rows[:, 0], cols[0])
-
-
-@nb.njit(cache=True, nogil=True)
-def _edge_distance(
-    c: np.ndarray, nx: np.ndarray, ny: np.ndarray, rows: np.ndarray, cols: np.ndarray
-) -> np.ndarray:
-    """``min over edges of (c - nx * col) - ny * row`` at every canvas pixel."""
-    out = np.empty((rows.shape[0], cols.shape[0]))
-    for i in range(rows.shape[0]):
-        for j in range(cols.shape[0]):
-            best = np.inf
-            for e in range(c.shape[0]):
-                v = (c[e] - nx[e] * cols[j]) - ny[e] * rows[i]
-                if v < best:
-                    best = v
-            out[i, j] = best
+    n = len(geoms)
+    if n == 0:
+        return []
+    s = settings
+    if batch is None:
+        batch = flatten_masks([g.mask for g in geoms])
+        batch = batch._replace(
+            filled=np.concatenate([g.filled.ravel() for g in geoms]),
+            core=np.concatenate([g.core.ravel() for g in geoms]),
+        )
+    flat, starts, heights, widths, filled, core = batch
+    outlines = _expected_outlines(*_centre_rings(batch._replace(mask=core)), labels)
+    kind = np.zeros(n, dtype=np.int64)
+    ok = shapely.get_type_id(outlines) == 3  # polygons (None: -1)
+    area = np.zeros(n)
+    area[ok] = shapely.area(outlines[ok])
+    ok &= area >= 4
+    kind[ok] = 1
+    is_circle = np.array([x == "circle" for x in labels])
+    kind[ok & is_circle] = 2
+    used = np.where(ok, outlines, None)
+    # canvas covering both the mask and the expected outline
+    x0, y0, x1, y1 = shapely.bounds(used).T
+    lo = np.zeros((n, 2), dtype=np.int64)
+    hi = np.zeros((n, 2), dtype=np.int64)
+    lo[ok, 0] = np.floor(np.minimum(y0[ok], 0) - 2)
+    lo[ok, 1] = np.floor(np.minimum(x0[ok], 0) - 2)
+    hi[ok, 0] = np.ceil(np.maximum(y1[ok], heights[ok]) + 2)
+    hi[ok, 1] = np.ceil(np.maximum(x1[ok], widths[ok]) + 2)
+    rings, ring_starts = _ragged(shapely.orient_polygons(used), n)
+    circles = np.zeros((n, 2))
+    if (kind == 2).any():
+        circles[kind == 2] = shapely.get_coordinates(shapely.centroid(used[kind == 2]))
+    cornered = np.array([x in ("square", "rectangle", "triangle") for x in labels])
+    verts, vert_starts = _ragged(np.where(cornered, used, None), n, drop_last=True)
+    obj_area = np.array([g.area for g in geoms], dtype=float)
+    small = np.minimum(s.min_area, np.maximum(1.0, 0.1 * obj_area))
+    limits = np.stack(
+        [
+            np.maximum(small, s.min_area_fraction * obj_area),  # s.area_threshold
+            np.minimum(s.min_depth, np.maximum(1.0, 0.2 * np.array([g.width for g in geoms]))),
+            np.minimum(3.0, np.maximum(1.0, 0.1 * np.array([g.length for g in geoms]))),
+            0.2 * area,
+        ],
+        axis=1,
+    )
+    ext = np.array([(-np.inf, -np.inf, np.inf, np.inf) if e is None else e for e in extents])
+    ints, floats = geo.defect_groups(
+        flat, filled, starts, heights, widths, kind, lo, hi - lo, rings, ring_starts, verts,
+        vert_starts, circles, limits, ext.astype(float), float(s.margin), int(s.min_hole_area),
+        float(s.min_burr_area),
+    )  # fmt: skip
+    out: list[list[Defect]] = [[] for _ in range(n)]
+    for (i, code, size, r0, c0, r1, c1), (cr, cc, depth) in zip(
+        ints.tolist(), floats.tolist(), strict=True
+    ):
+        name, note = _KINDS[code]
+        depth = 0.0 if code == geo.HOLE else round(depth, 3)
+        dr, dc = (0, 0) if offsets is None else offsets[i]
+        box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
+        out[i].append(Defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
+    for i in np.unique(ints[:, 0]).tolist():
+        # holes, then missing, then extra material, each largest first
+        group = {geo.HOLE: 0, geo.BURR: 2}
+        out[i].sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
     return out
 
 
-def _components(region: np.ndarray, eight: bool = True) -> list[tuple[np.ndarray, np.ndarray]]:
-    """``(rows, cols)`` of each 8- (or 4-) connected group, numbered as ndimage.label does."""
-    if not region.any():
-        return []
-    rr, cc, starts = label_runs(region, eight)
-    return [(rr[a:b], cc[a:b]) for a, b in itertools.pairwise(starts.tolist())]
-
-
-def _box(rr: np.ndarray, cc: np.ndarray) -> tuple[int, int, int, int]:
-    return (int(rr.min()), int(cc.min()), int(rr.max()) + 1, int(cc.max()) + 1)
+_CODES = {name: code for code, (name, _) in _KINDS.items()}
 
 
 def find_defects(
@@ -291,6 +332,17 @@ def find_defects(
         In ``g.mask`` coordinates: holes first, then missing, then extra
         material, each largest first.
 
+    Notes
+    -----
+    A pixel is expected when its centre lies inside the expected outline
+    (:func:`expected_outline`) grown by ``-margin``; each 8-connected group of
+    missing or extra pixels is a candidate (4-connected for holes). The
+    signed distance to a polygon outline is exact inside and, outside, the
+    distance to the farthest edge line (mitre-style), which keeps corners
+    sharp. A group of missing pixels reaches as deep as its farthest pixel
+    from the remaining material (the Euclidean distance transform), so a cut
+    corner is deep although it is near the outline.
+
     Examples
     --------
     >>> import numpy as np
@@ -300,94 +352,4 @@ def find_defects(
     >>> [(d.kind, d.area, d.bbox) for d in find_defects(measure(grid), "square")]
     [('hole', 2, (1, 2, 3, 3))]
     """
-    s = settings or DefectSettings()
-    defects: list[Defect] = []
-    holes = g.filled & ~g.mask
-    if holes.any():
-        # Holes are 4-connected: the background's connectivity for 8-connected objects.
-        for rr, cc in sorted(_components_4(holes), key=lambda x: -len(x[0])):
-            if len(rr) >= s.min_hole_area:
-                defects.append(
-                    Defect(
-                        "hole",
-                        len(rr),
-                        _box(rr, cc),
-                        (float(rr.mean()), float(cc.mean())),
-                        0.0,
-                        f"hole of {len(rr)} px",
-                    )
-                )
-    outline = expected_outline(g, label)
-    if outline.geom_type != "Polygon" or outline.area < 4:
-        return defects
-    # Canvas covering both the mask and the expected outline.
-    x0, y0, x1, y1 = outline.bounds
-    lo = np.floor([min(y0, 0) - 2, min(x0, 0) - 2]).astype(int)
-    hi = np.ceil([max(y1, g.mask.shape[0]) + 2, max(x1, g.mask.shape[1]) + 2]).astype(int)
-    shape = (int(hi[0] - lo[0]), int(hi[1] - lo[1]))
-    filled = np.zeros(shape, dtype=bool)
-    mask = np.zeros(shape, dtype=bool)
-    sl = (slice(-lo[0], -lo[0] + g.mask.shape[0]), slice(-lo[1], -lo[1] + g.mask.shape[1]))
-    filled[sl], mask[sl] = g.filled, g.mask
-    sd = _signed_distance(outline, label, shape, lo)
-    area_min = s.area_threshold(g.area)
-    depth_min = s.depth_threshold(g.width)
-    exp_area = outline.area
-    vertices = (
-        np.asarray(outline.exterior.coords)[:-1] - lo[::-1]
-        if label in ("square", "rectangle", "triangle")
-        else np.empty((0, 2))
-    )
-    corner_radius = min(3.0, max(1.0, 0.1 * g.length))
-
-    def inside_grid(rr: np.ndarray, cc: np.ndarray) -> bool:
-        """Whether all these canvas pixels lie inside the grid (or belt)."""
-        if extent is None:
-            return True
-        r, c = rr + lo[0], cc + lo[1]
-        return bool(np.all((r >= extent[0]) & (r < extent[2]) & (c >= extent[1]) & (c < extent[3])))
-
-    missing = (sd >= s.margin) & ~filled
-    extra = mask & (sd < -(1.0 + s.margin))
-    gap = None
-    for kind_group, region, smallest in (
-        ("missing", missing, area_min),
-        ("extra", extra, s.min_burr_area),
-    ):
-        found = []
-        for rr, cc in _components(region):
-            if len(rr) < smallest:
-                continue
-            if kind_group == "missing":
-                # How far the gap reaches from the remaining material: a cut
-                # corner is deep by this measure although it is near the outline.
-                if gap is None:
-                    gap = ndimage.distance_transform_edt(~filled)
-                depth = float(gap[rr, cc].max())
-            else:
-                depth = float(-sd[rr, cc].min())
-            if depth < depth_min:
-                continue
-            box = _box(rr + lo[0], cc + lo[1])
-            cen = (float(rr.mean() + lo[0]), float(cc.mean() + lo[1]))
-            if kind_group == "extra":
-                kind, note = "burr", f"extra material, {len(rr)} px"
-            elif len(rr) >= 0.2 * exp_area or not inside_grid(rr, cc):
-                kind, note = "truncated", f"part missing, {len(rr)} px"
-            elif (
-                len(vertices)
-                and np.min(
-                    np.hypot(vertices[:, None, 0] - cc[None], vertices[:, None, 1] - rr[None])
-                )
-                <= corner_radius
-            ):
-                kind, note = "broken_corner", f"corner missing, {len(rr)} px"
-            else:
-                kind, note = "bite", f"material missing, {len(rr)} px"
-            found.append(Defect(kind, len(rr), box, cen, round(depth, 3), note))
-        defects += sorted(found, key=lambda d: -d.area)
-    return defects
-
-
-def _components_4(region: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    return _components(region, eight=False)
+    return find_defects_many([g], [label], settings or DefectSettings(), [extent])[0]

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import shapely
@@ -46,7 +47,7 @@ from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
-from ._geometry import fill_holes, mask_hull, max_distance_outside, opening_cross
+from ._geometry import bounding_radii, mask_hull, measure_batch, open_burrs
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -127,9 +128,115 @@ def opening_radius(width: float) -> int:
     return 0 if width < 12 else 1
 
 
-def _sides(rect: shapely.Geometry) -> tuple[float, float]:
-    xy = np.asarray(rect.exterior.coords)[:3]
-    return float(np.hypot(*(xy[1] - xy[0]))), float(np.hypot(*(xy[2] - xy[1])))
+class MaskBatch(NamedTuple):
+    """Masks of several objects in flat bool buffers (C order), one after the other.
+
+    Object ``i`` is ``mask[starts[i]:starts[i + 1]].reshape(heights[i],
+    widths[i])``; ``filled`` and ``core`` (:class:`Geometry`) likewise, once
+    measured.
+    """
+
+    mask: np.ndarray
+    starts: np.ndarray
+    heights: np.ndarray
+    widths: np.ndarray
+    filled: np.ndarray | None = None
+    core: np.ndarray | None = None
+
+    def views(self, flat: np.ndarray) -> list[np.ndarray]:
+        """Each object's 2-D view of a flat buffer laid out like ``mask``."""
+        return [
+            flat[a:b].reshape(h, w)
+            for a, b, h, w in zip(
+                self.starts[:-1].tolist(),
+                self.starts[1:].tolist(),
+                self.heights.tolist(),
+                self.widths.tolist(),
+                strict=True,
+            )
+        ]
+
+
+def flatten_masks(masks: Sequence[np.ndarray]) -> MaskBatch:
+    """Masks in one flat bool buffer."""
+    n = len(masks)
+    shapes = np.array([m.shape for m in masks], dtype=np.int64).reshape(n, 2)
+    starts = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(shapes[:, 0] * shapes[:, 1], out=starts[1:])
+    flat = np.concatenate([m.ravel() for m in masks]).astype(bool, copy=False)
+    return MaskBatch(flat, starts, shapes[:, 0].copy(), shapes[:, 1].copy())
+
+
+def polygons_from_rings(coords: np.ndarray, ring_starts: np.ndarray) -> np.ndarray:
+    """Shapely polygons of closed rings stored one after the other (``ring_starts``)."""
+    index = np.repeat(np.arange(ring_starts.size - 1), np.diff(ring_starts))
+    return shapely.polygons(shapely.linearrings(coords, indices=index))
+
+
+def _rectangle_sides(rects: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """First four corners of each rectangle, and the lengths of its first two sides."""
+    xy, index = shapely.get_coordinates(rects, return_index=True)
+    if xy.shape[0] == 5 * rects.size and np.array_equal(index, np.repeat(np.arange(rects.size), 5)):
+        xy = xy.reshape(-1, 5, 2)[:, :4]
+    else:  # a degenerate envelope somewhere (not a 4-cornered polygon)
+        xy = np.stack([np.asarray(r.exterior.coords)[:4] for r in rects])
+    d1, d2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1]
+    return xy, np.hypot(d1[:, 0], d1[:, 1]), np.hypot(d2[:, 0], d2[:, 1])
+
+
+def measure_many(
+    masks: Sequence[np.ndarray], batch: MaskBatch | None = None
+) -> tuple[list[Geometry], np.ndarray, MaskBatch]:
+    """:func:`measure` of several masks in one batch.
+
+    Returns the geometries, the ``(n, 2)`` sums of the row and column indices
+    of each mask's pixels (divided by the area: the centroid) and the masks,
+    filled masks and cores in flat buffers. ``batch``: the masks already
+    flattened (``masks`` are then views of it).
+    """
+    n = len(masks)
+    if batch is None:
+        batch = flatten_masks(masks) if n else MaskBatch(*(np.zeros(k, int) for k in (0, 1, 0, 0)))
+    flat, starts, heights, widths = batch[:4]
+    if n == 0:
+        return [], np.zeros((0, 2)), batch._replace(filled=flat, core=flat)
+    filled_flat, coords, ring_starts, areas, sums = measure_batch(flat, starts, heights, widths)
+    hulls = polygons_from_rings(coords, ring_starts)
+    rects = shapely.oriented_envelope(hulls)
+    xy, l1, l2 = _rectangle_sides(rects)
+    filled = batch.views(filled_flat)
+    # Thin burrs would stretch the hull: objects wide enough for an opening
+    # (see opening_radius) are measured without what it removes, if that
+    # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
+    wide = [i for i in np.flatnonzero(np.minimum(l1, l2) >= 12).tolist()
+            if opening_radius(min(float(l1[i]), float(l2[i])))]  # fmt: skip
+    core_flat, changed, opened, opened_starts = open_burrs(
+        filled_flat, starts, heights, widths, np.array(wide, dtype=np.int64), coords, ring_starts
+    )
+    cores = filled
+    if changed.any():
+        cores = batch.views(core_flat)
+        hulls[changed] = polygons_from_rings(opened, opened_starts)
+        rects[changed] = shapely.oriented_envelope(hulls[changed])
+        xy[changed], l1[changed], l2[changed] = _rectangle_sides(rects[changed])
+    long_edge = np.where((l1 >= l2)[:, None], xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1])
+    # rows grow downwards, so the on-screen angle uses -dy
+    angles = np.degrees(np.arctan2(-long_edge[:, 1], long_edge[:, 0])).tolist()
+    geoms = []
+    for mask, f, core, area, hull, rect, a, b, angle in zip(
+        masks, filled, cores, areas.tolist(), hulls, rects, l1.tolist(), l2.tolist(), angles,
+        strict=True,
+    ):  # fmt: skip
+        angle %= 180.0
+        if angle > 180.0 - 1e-9:
+            angle = 0.0
+        long, short = (a, b) if a >= b else (b, a)
+        geoms.append(
+            Geometry(
+                mask, f, core, area, hull, rect, round(long, 9), round(short, 9), round(angle, 6)
+            )
+        )
+    return geoms, sums, batch._replace(filled=filled_flat, core=core_flat)
 
 
 def measure(mask: np.ndarray) -> Geometry:
@@ -156,67 +263,57 @@ def measure(mask: np.ndarray) -> Geometry:
     >>> g.area, g.length, g.width, g.orientation
     (8, 4.0, 2.0, 0.0)
     """
-    filled = fill_holes(mask)
-    ring = _hull_coords(mask)
-    hull = shapely.polygons(ring)
-    rect = shapely.oriented_envelope(hull)
-    l1, l2 = _sides(rect)
-    core = filled
-    radius = opening_radius(min(l1, l2))
-    if radius:
-        # Thin burrs would stretch the hull: if the opening removed something that
-        # sticks out of the opened shape's hull by more than 2 pixels (more than
-        # the corners an opening rounds off), measure the shape without it.
-        opened = opening_cross(filled)  # skimage's disk(1): the 3 x 3 cross
-        if opened.any():
-            opened_ring = _hull_coords(opened)
-            if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
-                core, hull = opened, shapely.polygons(opened_ring)
-                rect = shapely.oriented_envelope(hull)
-                l1, l2 = _sides(rect)
-    xy = np.asarray(rect.exterior.coords)[:4]
-    e1, e2 = xy[1] - xy[0], xy[2] - xy[1]
-    long_edge = e1 if l1 >= l2 else e2
-    # rows grow downwards, so the on-screen angle uses -dy
-    angle = float(np.degrees(np.arctan2(-long_edge[1], long_edge[0]))) % 180.0
-    if angle > 180.0 - 1e-9:
-        angle = 0.0
-    return Geometry(
-        mask=mask,
-        filled=filled,
-        core=core,
-        area=int(mask.sum()),
-        hull=hull,
-        rect=rect,
-        length=round(max(l1, l2), 9),
-        width=round(min(l1, l2), 9),
-        orientation=round(angle, 6),
-    )
+    return measure_many([mask])[0][0]
 
 
-def _outlines_fourier(rings: list[np.ndarray], n_points: int, n_coeffs: int) -> np.ndarray:
-    """Tentacle features of closed outlines: equal chords, turning angles, |DFT|.
+def _padded_rings(coords: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:
+    """Closed rings stored one after the other, padded to one length.
 
-    The rings are padded to one length by repeating their first vertex (a
-    zero-length closing segment, which :func:`resample_closed` skips), so the
-    whole batch goes through the library functions in one call each.
+    ``index`` gives the ring of each vertex (closing vertices dropped); rings
+    are padded by repeating their first vertex (a zero-length closing
+    segment, which :func:`resample_closed` skips).
     """
-    m = max(len(r) for r in rings)
-    batch = np.stack([np.concatenate([r, np.repeat(r[:1], m - len(r), axis=0)]) for r in rings])
+    counts = np.bincount(index, minlength=n)
+    first = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(counts, out=first[1:])
+    batch = np.repeat(coords[first[:-1]][:, None, :], counts.max(), axis=1)
+    batch[index, np.arange(index.size) - first[index]] = coords
+    return batch
+
+
+def _outlines_fourier(batch: np.ndarray, n_points: int, n_coeffs: int) -> np.ndarray:
+    """Tentacle features of padded closed outlines: equal chords, turning angles, |DFT|."""
     q = points_to_angles(resample_closed(batch, n_points), closed=True)
     return fourier_features(q, n_coeffs, normalize=True)
 
 
-def _hull_scalars(g: Geometry) -> list[float]:
-    area = g.hull.area
-    radius = shapely.minimum_bounding_radius(g.hull)
-    return [
-        area / (g.length * g.width),
-        g.width / g.length,
-        4 * np.pi * area / g.hull.length**2,
-        area / (np.pi * radius**2),
-        1.0 / np.sqrt(g.area),
-    ]
+def _hull_features(geoms: Sequence[Geometry], n_points: int, n_coeffs: int) -> np.ndarray:
+    """The ``"hull"`` group of every object: scalars and hull-outline Fourier features."""
+    n = len(geoms)
+    hulls = np.empty(n, dtype=object)
+    hulls[:] = [g.hull for g in geoms]
+    area = shapely.area(hulls)
+    perimeter = shapely.length(hulls)
+    coords, index = shapely.get_coordinates(hulls, return_index=True)
+    last = np.append(index[1:] != index[:-1], True)  # each ring's closing vertex
+    coords, index = coords[~last], index[~last]
+    # shapely.minimum_bounding_radius, compiled (GEOS's algorithm and arithmetic)
+    radius = bounding_radii(coords, np.searchsorted(index, np.arange(n + 1)))
+    length = np.array([g.length for g in geoms])
+    width = np.array([g.width for g in geoms])
+    pixels = np.array([g.area for g in geoms])
+    scalars = np.stack(
+        [
+            area / (length * width),
+            width / length,
+            4 * np.pi * area / perimeter**2,
+            area / (np.pi * radius**2),
+            1.0 / np.sqrt(pixels),
+        ],
+        axis=1,
+    )
+    batch = _padded_rings(coords, index, n)
+    return np.concatenate([scalars, _outlines_fourier(batch, n_points, n_coeffs)], axis=1)
 
 
 def _outline_ring(g: Geometry) -> np.ndarray | None:
@@ -306,15 +403,16 @@ def features_matrix(
     parts = []
     for group in descriptors:
         if group == "hull":
-            parts.append(np.array([_hull_scalars(g) for g in geoms]).reshape(n, -1))
-            rings = [np.asarray(g.hull.exterior.coords)[:-1] for g in geoms]
-            parts.append(_outlines_fourier(rings, n_points, n_coeffs))
+            parts.append(_hull_features(geoms, n_points, n_coeffs))
         elif group == "outline":
             found = [(i, r) for i, g in enumerate(geoms) if (r := _outline_ring(g)) is not None]
             block = np.zeros((n, n_coeffs))
             if found:
                 ok = [i for i, _ in found]
-                block[ok] = _outlines_fourier([r for _, r in found], n_points, n_coeffs)
+                rings = [r for _, r in found]
+                index = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
+                batch = _padded_rings(np.concatenate(rings), index, len(rings))
+                block[ok] = _outlines_fourier(batch, n_points, n_coeffs)
             parts.append(block)
         elif group == "region":
             parts.append(np.array([_region_features(g) for g in geoms]).reshape(n, -1))

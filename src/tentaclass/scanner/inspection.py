@@ -10,8 +10,8 @@ from scipy import ndimage
 
 from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
-from .defects import DefectSettings, find_defects
-from .descriptors import Geometry, measure
+from .defects import DefectSettings, find_defects_many
+from .descriptors import Geometry, MaskBatch, measure_many
 from .model import ScannerModel, crop, default_model
 from .records import Defect, Inspection
 
@@ -86,26 +86,25 @@ def _reason(d: Defect) -> str:
 
 def _assemble(
     g: Geometry,
+    defects: list[Defect],
+    centroid: tuple[float, float],
     label: str | None,
     confidence: float,
     top: int,
     left: int,
     model: ScannerModel,
-    settings: DefectSettings,
     nominal_size: NominalSize,
     size_tolerance: float,
-    extent: tuple[float, float, float, float] | None,
     single: bool = False,
 ) -> Inspection:
-    """Defects and decision for a measured, classified object cropped at (top, left)."""
-    if extent is not None:
-        extent = (extent[0] - top, extent[1] - left, extent[2] - top, extent[3] - left)
-    defects = find_defects(g, label, settings, extent=extent)
-    defects = [d.shifted(top, left) for d in defects]
-    rr, cc = np.nonzero(g.mask)
+    """Record of a measured, classified object cropped at (top, left), with its defects.
+
+    ``defects`` are in grid coordinates, ``centroid`` (the mean pixel centre)
+    in mask coordinates.
+    """
     bbox = (top, left, top + g.mask.shape[0], left + g.mask.shape[1])
-    centroid = (round(float(rr.mean()) + top, 6), round(float(cc.mean()) + left, 6))
-    nominal = _nominal_for(nominal_size, label, model)
+    centroid = (round(centroid[0] + top, 6), round(centroid[1] + left, 6))
+    nominal = None if nominal_size is None else _nominal_for(nominal_size, label, model)
     if nominal is not None:
         d = _size_defect(g, nominal, size_tolerance, bbox, centroid)
         if d is not None:
@@ -115,10 +114,10 @@ def _assemble(
         defects.insert(
             0, Defect("broken", 0, bbox, centroid, 0.0, f"object in {n_pieces} separate pieces")
         )
-    holes = [d for d in defects if d.kind == "hole"]
+    holes = [d for d in defects if d.kind == "hole"] if defects else []
     return Inspection(
         label=label,
-        confidence=round(float(confidence), 6),
+        confidence=round(confidence, 6),
         bbox=bbox,
         area=g.area,
         centroid=centroid,
@@ -157,6 +156,7 @@ def inspect_masks(
     size_tolerance: float = 0.1,
     extents: Sequence[tuple[float, float, float, float] | None] | None = None,
     single: bool = False,
+    flat: MaskBatch | None = None,
 ) -> list[Inspection]:
     """Inspect validated, cropped object masks in one batch (one classifier call).
 
@@ -164,33 +164,31 @@ def inspect_masks(
     are the ``(row, col)`` of each mask's top-left pixel, ``extents`` the
     ``(row0, col0, row1, col1)`` of each grid (or the belt) in the same
     coordinates as the offsets; ``single`` says each mask is known to be one
-    8-connected piece.
+    8-connected piece; ``flat``: the masks already in flat buffers (``masks``
+    are views of it).
     """
     if not masks:
         return []
-    geoms = [measure(m) for m in masks]
+    geoms, sums, batch = measure_many(masks, flat)
     proba = model.predict_features_proba(model.features(geoms))
     best = np.argmax(proba, axis=1)
+    labels = [str(x) for x in model.classes_[best].tolist()]
+    confidence = proba[np.arange(len(masks)), best].tolist()
     if extents is None:
         extents = [None] * len(masks)
-    out = []
-    for g, (top, left), k, p, ext in zip(geoms, offsets, best, proba, extents, strict=True):
-        out.append(
-            _assemble(
-                g,
-                str(model.classes_[k]),
-                p[k],
-                top,
-                left,
-                model,
-                settings,
-                nominal_size,
-                size_tolerance,
-                ext,
-                single,
-            )
+    # the grid (or belt) in each mask's coordinates
+    shifted = [
+        None if e is None else (e[0] - top, e[1] - left, e[2] - top, e[3] - left)
+        for e, (top, left) in zip(extents, offsets, strict=True)
+    ]
+    defects = find_defects_many(geoms, labels, settings, shifted, batch, offsets)
+    centroids = (sums / np.array([g.area for g in geoms])[:, None]).tolist()
+    return [
+        _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
+        for g, d, c, label, p, (top, left) in zip(
+            geoms, defects, centroids, labels, confidence, offsets, strict=True
         )
-    return out
+    ]
 
 
 def inspect(

@@ -26,7 +26,7 @@ from .._thesis_data import scanner_training_grids
 from .._validation import as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
-from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure
+from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure_many
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "ScannerModel", "default_model"]
 
@@ -130,9 +130,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
     def features(self, geometries: Sequence[Geometry]) -> np.ndarray:
         """Descriptor matrix of measured objects (see :func:`.descriptors.measure`)."""
         desc, n_points, n_coeffs = self._check_params()
-        k = len(feature_names(desc, n_coeffs))
         if not geometries:
-            return np.empty((0, k))
+            return np.empty((0, len(feature_names(desc, n_coeffs))))
         return features_matrix(geometries, desc, n_points=n_points, n_coeffs=n_coeffs)
 
     def transform(self, grids: Any) -> np.ndarray:
@@ -146,7 +145,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         -------
         features : ndarray of shape (n_grids, n_features)
         """
-        return self.features([measure(crop(g)[0]) for g in as_grid_list(grids)])
+        return self.features(measure_many([crop(g)[0] for g in as_grid_list(grids)])[0])
 
     # -- fitting -----------------------------------------------------------------------------
     def fit(self, grids: Any, labels: Any) -> ScannerModel:
@@ -164,7 +163,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         self : ScannerModel
         """
         grids = as_grid_list(grids)
-        geoms = [measure(crop(g)[0]) for g in grids]
+        geoms = measure_many([crop(g)[0] for g in grids])[0]
         sizes = np.array([[g.length, g.width] for g in geoms], dtype=float)
         return self._fit_features(self.features(geoms), labels, sizes)
 
@@ -191,7 +190,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
     # -- prediction --------------------------------------------------------------------------
     def predict_features_proba(self, X: np.ndarray) -> np.ndarray:
         """Class probabilities from a descriptor matrix (columns in :attr:`classes_` order)."""
-        check_is_fitted(self)
+        if not hasattr(self, "classifier_"):  # (check_is_fitted costs more than a small batch)
+            check_is_fitted(self)
         proba = self.classifier_.predict_proba(X)
         order = np.searchsorted(self.classes_, self.classifier_.classes_)
         out = np.zeros((X.shape[0], self.classes_.size))
@@ -419,4 +419,3 @@ def _is_legacy_npz(path: Path) -> bool:
     except Exception:  # whatever a damaged zip raises: load_model names the problem
         return False
     return "metadata.npy" in names and "metadata.json" not in names
-

@@ -519,13 +519,14 @@ class LineScanner:
     def _collect(self, n_out: int) -> list[tuple]:
         """Masks of the objects the kernel output: (sort key, kind, mask, top, left)."""
         p = self._pools
-        out, out_runs = p["out"][:n_out], p["out_runs"]
+        out = p["out"][:n_out]
+        flat, starts, heights, widths = seg.paint_all(out, p["out_runs"])
         items = []
-        for kind, first, last, minc, _area, a, b in out.tolist():
-            cols = out_runs[a:b, 2]
-            maxc = int(cols.max())
-            mask = seg.paint(out_runs, a, b, first, minc, last - first + 1, maxc - minc)
-            items.append(((last, minc, first), kind, mask, first, minc))
+        for (kind, first, last, minc, _area, _a, _b), a, b, h, w in zip(
+            out.tolist(), starts[:-1].tolist(), starts[1:].tolist(), heights.tolist(),
+            widths.tolist(), strict=True,
+        ):  # fmt: skip
+            items.append(((last, minc, first), kind, flat[a:b].reshape(h, w), first, minc))
         return items
 
     def _records(self, found: list[tuple], final: bool) -> list[ScannedObject]:
