@@ -13,6 +13,7 @@ from ._controller import CurlController
 from ._decompose import convex_pieces
 from ._grasp import PhysicalGrasp, grasp
 from ._model import ChainModel, build_model, chain_mjcf
+from ._quasi import quasi_static_grasp
 
 __all__ = [
     "ChainModel",
@@ -23,4 +24,5 @@ __all__ = [
     "convex_pieces",
     "grasp",
     "grasp_many",
+    "quasi_static_grasp",
 ]
