@@ -164,7 +164,7 @@ def thesis(n_objects, jobs, arrays, seed=1, n_train=4000):
                         method="quasi-static", n_jobs=jobs)  # fmt: skip
         ok = np.array([g.complete for g in gs])
         X = np.array([g.angles for g in gs]) + rng.normal(0, 1, (n_train, 16)) * sigma[:, None]
-        return {"X": X[ok], "y": y[ok], "groups": np.flatnonzero(ok)}
+        return {"X": X[ok], "y": y[ok], "groups": n_train + np.flatnonzero(ok)}  # own objects
 
     test = _cached(arrays, f"thesis-test-{n_objects}-{seed}", make_test)
     hug = _cached(arrays, f"thesis-train-{n_train}-{seed}", make_train)
@@ -176,8 +176,7 @@ def thesis(n_objects, jobs, arrays, seed=1, n_train=4000):
 
 
 def _training_sets(hug, quasi):
-    both = {k: np.concatenate([hug[k], quasi[k] + (hug[k].max() + 1 if k == "groups" else 0)])
-            for k in ("X", "y", "groups")}  # fmt: skip
+    both = {k: np.concatenate([hug[k], quasi[k]]) for k in ("X", "y", "groups")}
     return {"hug": hug, "quasi-static": quasi, "hug + quasi-static": both}
 
 
