@@ -5,7 +5,9 @@ controller and returns the joint angles at rest as a :class:`tentaclass.Wrap`,
 so classifiers and :func:`tentaclass.grasp_state` read it like a geometric wrap.
 :func:`build_model` gives the MuJoCo model itself. Needs ``pip install
 'tentaclass[physics]'`` (MuJoCo); importing this package works without it,
-building a model does not.
+building a model does not. :func:`quasi_static_grasp` is the same grasp in its
+quasi-static limit, geometry only (no MuJoCo needed): fast enough to generate
+training wraps that look like physical ones.
 """
 
 from ._batch import grasp_many
