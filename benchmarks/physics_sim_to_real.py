@@ -98,6 +98,16 @@ def _test_pair(objs, n_links, starts, dirs, jobs):
     }
 
 
+def _quasi_test(objs, n_links, starts, dirs, jobs):
+    """Quasi-static grasps of the test objects (same chain, starts and directions)."""
+    gs = grasp_many(objs, PlanarChain([1.0] * n_links), starts, direction=list(dirs),
+                    method="quasi-static", n_jobs=jobs)  # fmt: skip
+    return {
+        "quasi": np.array([g.angles for g in gs]),
+        "quasi_ok": np.array([g.complete for g in gs]),
+    }
+
+
 def score(clf, X, ok, y):
     """Accuracy with every incomplete wrap counted as an error; predictions (None where failed)."""
     ok = ok & np.isfinite(X).all(axis=1)
@@ -119,10 +129,12 @@ def _evaluate(train, test, y):
         clf.fit(train["X"], train["y"], **kw)
         acc_geo, pg = score(clf, test["geo"], test["geo_ok"], y)
         acc_phys, pp = score(clf, test["phys"], test["phys_ok"], y)
+        acc_quasi, _ = score(clf, test["quasi"], test["quasi_ok"], y)
         both = test["geo_ok"] & test["phys_ok"]
         out[name] = {
             "acc_geo": acc_geo,
             "acc_phys": acc_phys,
+            "acc_quasi": acc_quasi,
             "ratio": acc_phys / acc_geo if acc_geo else float("nan"),
             "acc_geo_both_ok": float(np.mean(pg[both] == y[both])),
             "acc_phys_both_ok": float(np.mean(pp[both] == y[both])),
@@ -138,14 +150,22 @@ def _evaluate(train, test, y):
 
 # ---------------------------------------------------------------- thesis classes
 def thesis(n_objects, jobs, arrays, seed=1, n_train=4000):
-    def make_test():
+    def objects():
         rng = np.random.default_rng(seed)
         y = rng.choice(CLASSES, n_objects)
         laps = rng.uniform(1.0, 1.3, n_objects)
         objs = [random_object(c, rng, lp) for c, lp in zip(y, laps, strict=True)]
         starts = rng.uniform(0, 1, n_objects)
         dirs = np.where(rng.random(n_objects) < 0.5, "ccw", "cw")
+        return y, objs, starts, dirs
+
+    def make_test():
+        y, objs, starts, dirs = objects()
         return {"y": y, **_test_pair(objs, 16, starts, dirs, jobs)}
+
+    def make_quasi_test():
+        _, objs, starts, dirs = objects()
+        return _quasi_test(objs, 16, starts, dirs, jobs)
 
     def make_train():
         d = synthetic_tentacle(n_train, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0),
@@ -167,6 +187,7 @@ def thesis(n_objects, jobs, arrays, seed=1, n_train=4000):
         return {"X": X[ok], "y": y[ok], "groups": n_train + np.flatnonzero(ok)}  # own objects
 
     test = _cached(arrays, f"thesis-test-{n_objects}-{seed}", make_test)
+    test.update(_cached(arrays, f"thesis-quasi-test-{n_objects}-{seed}", make_quasi_test))
     hug = _cached(arrays, f"thesis-train-{n_train}-{seed}", make_train)
     t0 = time.perf_counter()
     quasi = _cached(arrays, f"thesis-quasi-{n_train}-{seed}", make_quasi)
@@ -190,12 +211,15 @@ def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links
     ]))  # fmt: skip
     train_idx = np.setdiff1d(np.arange(len(labels)), test_idx)
 
-    def make_test():
+    def objects():  # the draws follow the choice of the test silhouettes from the same seed
         m = len(test_idx)
-        target = rng.uniform(1.2, 2.0, m)
-        theta = rng.uniform(0, 2 * np.pi, m)
-        starts = rng.uniform(0, 1, m)
-        dirs = np.where(rng.random(m) < 0.5, "ccw", "cw")
+        r = np.random.default_rng(seed)
+        for c in np.unique(labels):
+            r.choice(np.flatnonzero(labels == c), per_class, replace=False)
+        target = r.uniform(1.2, 2.0, m)
+        theta = r.uniform(0, 2 * np.pi, m)
+        starts = r.uniform(0, 1, m)
+        dirs = np.where(r.random(m) < 0.5, "ccw", "cw")
         objs = []
         for i, t, th, s, d in zip(test_idx, target, theta, starts, dirs, strict=True):
             o = _placed(outlines[i], th, n_links / t)
@@ -203,8 +227,16 @@ def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links
             if w.complete and np.isfinite(w.laps) and w.laps > 0.05:
                 o = o * w.laps / t
             objs.append(o)
+        return objs, starts, dirs, target
+
+    def make_test():
+        objs, starts, dirs, target = objects()
         out = _test_pair(objs, n_links, starts, dirs, jobs)
         return {"y": labels[test_idx], "index": test_idx, "target_laps": target, **out}
+
+    def make_quasi_test():
+        objs, starts, dirs, _ = objects()
+        return _quasi_test(objs, n_links, starts, dirs, jobs)
 
     def make_train():
         d = chain_wraps([outlines[i] for i in train_idx], n_links, n_wraps=copies,
@@ -232,6 +264,7 @@ def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links
 
     t0 = time.perf_counter()
     test = _cached(arrays, f"mpeg7-test-{per_class}-{seed}", make_test)
+    test.update(_cached(arrays, f"mpeg7-quasi-test-{per_class}-{seed}", make_quasi_test))
     print(f"MPEG-7 test pairs ready in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     hug = _cached(arrays, f"mpeg7-train-{copies}-{seed}", make_train)
     print(f"MPEG-7 hug training wraps ready in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
@@ -259,6 +292,7 @@ def _summary(test, trains, res):
         "n_train": {k: len(t["y"]) for k, t in trains.items()},
         "geo_complete": int(test["geo_ok"].sum()),
         "phys_complete": int(test["phys_ok"].sum()),
+        "quasi_complete": int(test["quasi_ok"].sum()),
         "phys_reasons": sorted({str(r) for r in test["phys_reason"] if r}),
         "geo_laps_median": float(np.nanmedian(test["geo_laps"])),
         "phys_laps_median": float(np.nanmedian(test["phys_laps"])),
@@ -270,17 +304,19 @@ def _summary(test, trains, res):
 def report(name, s):
     print(
         f"\n{name}: {s['n_test']} test objects ({s['geo_complete']} geometric and "
-        f"{s['phys_complete']} physical complete), training wraps {s['n_train']}; median laps "
+        f"{s['phys_complete']} physical and {s['quasi_complete']} quasi-static complete), "
+        f"training wraps {s['n_train']}; median laps "
         f"geometric {s['geo_laps_median']:.2f}, physical {s['phys_laps_median']:.2f}; "
         f"grasps {s['grasp_seconds']:.0f} s"
     )
     rows = [[t, k, f"{100 * v['acc_geo']:.1f} %", f"{100 * v['acc_phys']:.1f} %",
              f"{v['ratio']:.3f}",
-             f"{100 * v['acc_geo_both_ok']:.1f} % / {100 * v['acc_phys_both_ok']:.1f} %"]
+             f"{100 * v['acc_geo_both_ok']:.1f} % / {100 * v['acc_phys_both_ok']:.1f} %",
+             f"{100 * v['acc_quasi']:.1f} %"]
             for t, res in s["methods"].items() for k, v in res.items()]  # fmt: skip
     print(markdown_table(
         ["training wraps", "recogniser", "geometric", "physical", "ratio",
-         "both complete: geometric / physical"], rows))  # fmt: skip
+         "both complete: geometric / physical", "quasi-static test grasps"], rows))  # fmt: skip
     for t, res in s["methods"].items():
         for k, v in res.items():
             if v["per_class"]:
