@@ -264,7 +264,15 @@ class _Setup:
     early: PhysicalGrasp | None
 
 
-def _prepare(outline, chain, start, offset, direction, thickness, simplify) -> _Setup:
+def _prepare(
+    outline: ArrayLike,
+    chain: PlanarChain,
+    start: float,
+    offset: float,
+    direction: str,
+    thickness: float | None,
+    simplify: float,
+) -> _Setup:
     """Validate a grasp's arguments, place the base and the first link (see :func:`grasp`)."""
     if not isinstance(chain, PlanarChain):
         raise InputError(f"chain must be a PlanarChain, got {type(chain).__name__}")
@@ -351,13 +359,13 @@ def _prepare(outline, chain, start, offset, direction, thickness, simplify) -> _
         along = np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
         return finish(np.zeros(n), base + along, reason, 0.0, 0, np.zeros((0, 2)), np.zeros(0))
 
+    early: PhysicalGrasp | None = None
     if first >= n:
         early = straight(f"all {n} links are needed for the approach: the chain cannot reach "
                          "the object")  # fmt: skip
         return _Setup(n, o, poly, r, base, heading, first, joint, tangent, 0.0, norm_chain,
                       finish, early)  # fmt: skip
     a = _clear_turn(poly, joint, tangent, float(ln[first] * s), r)
-    early = None
     if a is None:
         early = straight("no start pose of the first link clears the object from this start point")
         a = heading
