@@ -5,7 +5,8 @@ Run: ``python benchmarks/bench_physics.py [--grasps 6] [--jobs 2] [--folder PATH
 Each grasp closes a 64-link chain on an MPEG-7 silhouette (the thesis's four
 shapes when the data is absent) from a random start, with a link length of
 the perimeter over 64; the time includes building the MuJoCo model (convex
-decomposition, compiling) and the simulation. The reference in the same run
+decomposition, compiling) and the simulation. The quasi-static grasp
+(geometry only, no MuJoCo) of the same chains is timed alongside. The reference in the same run
 is a geometric ``wrap(mode="hug")`` of the same chain and start (its kernel
 compiled and the worker processes started before timing). Serial and
 parallel runs are interleaved and the best of the repeats kept. MuJoCo is
@@ -53,7 +54,7 @@ def main(argv=None) -> dict:
     outlines, starts, source = load(args.grasps, args.folder, 0)
     n = args.links
     lengths = [float(np.sum(np.hypot(*(np.roll(o, -1, 0) - o).T))) / n for o in outlines]
-    best = {"serial": np.inf, "parallel": np.inf, "geometric": np.inf}
+    best = {"serial": np.inf, "parallel": np.inf, "quasi": np.inf, "geometric": np.inf}
     sims = []
     with threadpool_limits(1, user_api="blas"):
         # warm up: compile the geometric kernel, start the (reused) worker processes
@@ -62,11 +63,14 @@ def main(argv=None) -> dict:
         grasp_many([small] * args.jobs, PlanarChain([0.5] * 8), 0.0, n_jobs=args.jobs)
         grasp_many([small], PlanarChain([0.5] * 8), 0.0, n_jobs=1)
         for _ in range(args.repeat):
-            for mode in ("serial", "parallel", "geometric"):
+            for mode in ("serial", "parallel", "quasi", "geometric"):
                 t0 = time.perf_counter()
                 if mode == "geometric":
                     for o, ln, s in zip(outlines, lengths, starts, strict=True):
                         wrap(o, n, ln, start=s, mode="hug")
+                elif mode == "quasi":
+                    chains = [PlanarChain([ln] * n) for ln in lengths]
+                    grasp_many(outlines, chains, starts, method="quasi-static")
                 else:
                     chains = [PlanarChain([ln] * n) for ln in lengths]
                     jobs = 1 if mode == "serial" else args.jobs
@@ -81,6 +85,8 @@ def main(argv=None) -> dict:
          f"{best['serial'] / best['geometric']:.0f}"],
         [f"physical, {args.jobs} processes", f"{k / best['parallel']:.2f}",
          f"{best['parallel'] / k:.2f}", f"{best['parallel'] / best['geometric']:.0f}"],
+        ["quasi-static (`quasi_static_grasp`), 1 process", f"{k / best['quasi']:.2f}",
+         f"{best['quasi'] / k:.2f}", f"{best['quasi'] / best['geometric']:.0f}"],
         ["geometric hug wrap (reference)", f"{k / best['geometric']:.1f}",
          f"{best['geometric'] / k:.3f}", "1"],
     ]  # fmt: skip

@@ -5,7 +5,9 @@ controller and returns the joint angles at rest as a :class:`tentaclass.Wrap`,
 so classifiers and :func:`tentaclass.grasp_state` read it like a geometric wrap.
 :func:`build_model` gives the MuJoCo model itself. Needs ``pip install
 'tentaclass[physics]'`` (MuJoCo); importing this package works without it,
-building a model does not.
+building a model does not. :func:`quasi_static_grasp` is the same grasp in its
+quasi-static limit, geometry only (no MuJoCo needed): fast enough to generate
+training wraps that look like physical ones.
 """
 
 from ._batch import grasp_many
@@ -13,6 +15,7 @@ from ._controller import CurlController
 from ._decompose import convex_pieces
 from ._grasp import PhysicalGrasp, grasp
 from ._model import ChainModel, build_model, chain_mjcf
+from ._quasi import quasi_static_grasp
 
 __all__ = [
     "ChainModel",
@@ -23,4 +26,5 @@ __all__ = [
     "convex_pieces",
     "grasp",
     "grasp_many",
+    "quasi_static_grasp",
 ]

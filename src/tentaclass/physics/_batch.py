@@ -11,8 +11,12 @@ from .._typing import ArrayLike
 from ..errors import InputError
 from ..manipulator import PlanarChain
 from ._grasp import PhysicalGrasp, grasp
+from ._quasi import quasi_static_grasp
 
 __all__ = ["grasp_many"]
+
+#: What ``grasp_many`` can run.
+METHODS = ("mujoco", "quasi-static")
 
 
 def grasp_many(
@@ -22,6 +26,7 @@ def grasp_many(
     *,
     offset: ArrayLike = 0.0,
     direction: str | Sequence[str] = "ccw",
+    method: str = "mujoco",
     n_jobs: int | None = None,
     **kwargs: Any,
 ) -> list[PhysicalGrasp]:
@@ -38,12 +43,15 @@ def grasp_many(
         Broadcast against the outlines.
     direction : str or sequence of str, default="ccw"
         One direction, or one per grasp.
+    method : {"mujoco", "quasi-static"}, default="mujoco"
+        :func:`grasp` (simulated in MuJoCo) or :func:`quasi_static_grasp`
+        (its quasi-static limit, geometry only: for training data).
     n_jobs : int, optional
         Worker processes, as in joblib: -1 all cores, None one (unless a
         ``joblib.parallel_config`` block says otherwise). Results do not
         depend on it.
     **kwargs
-        Passed to :func:`grasp`.
+        Passed to :func:`grasp` (or :func:`quasi_static_grasp`).
 
     Returns
     -------
@@ -56,7 +64,13 @@ def grasp_many(
     >>> gs = grasp_many(circle(1.0), PlanarChain([0.39] * 16), starts=[0.0, 0.5])
     >>> [g.complete for g in gs]
     [True, True]
+    >>> qs = grasp_many(circle(1.0), PlanarChain([0.39] * 16), [0.0, 0.5], method="quasi-static")
+    >>> [round(g.laps, 1) for g in qs]
+    [1.0, 1.0]
     """
+    if method not in METHODS:
+        raise InputError(f"method must be one of {', '.join(map(repr, METHODS))}, got {method!r}")
+    fn = grasp if method == "mujoco" else quasi_static_grasp
     single = isinstance(outlines, np.ndarray) and outlines.ndim == 2
     if not single and isinstance(outlines, Sequence) and outlines:
         single = np.ndim(outlines[0]) == 1
@@ -87,9 +101,9 @@ def grasp_many(
         raise InputError(f"chain has {len(chains)} entries for {b} grasps")
     jobs = [(rows[i], chains[i], float(st[i]), float(off[i]), dirs[i]) for i in range(b)]
     if n_jobs in (None, 1):
-        return [grasp(o, c, start=t, offset=f, direction=d, **kwargs) for o, c, t, f, d in jobs]
+        return [fn(o, c, start=t, offset=f, direction=d, **kwargs) for o, c, t, f, d in jobs]
     from joblib import Parallel, delayed
 
     return Parallel(n_jobs=n_jobs)(
-        delayed(grasp)(o, c, start=t, offset=f, direction=d, **kwargs) for o, c, t, f, d in jobs
+        delayed(fn)(o, c, start=t, offset=f, direction=d, **kwargs) for o, c, t, f, d in jobs
     )

@@ -22,6 +22,12 @@ STOWED_MASS = 1e-6
 #: set point runs ahead: a stall) instead of being pushed through.
 BRAKE_STEPS = 2
 DRIVE_STEPS = 10
+#: Contacts on a link nearer its joint than this fraction of its length do not stop the joint.
+_CAP = 0.1
+#: A link's axis keeps this fraction of its radius from the object.
+_SLACK = 0.98
+#: Largest turn back that lifts a link out of the object (radians).
+_MAX_UNSINK = 0.6
 
 
 @dataclass(frozen=True)
@@ -181,11 +187,41 @@ class _Sim:
                 continue
             rel, normal = c.pos[:2] - anchor, c.frame[:2]
             arm = abs(float(rel[0] * normal[1] - rel[1] * normal[0]))  # lever of the normal
-            if arm > 0.1:  # contacts on the joint's own cap do not stop its turn
+            if arm > _CAP:  # contacts on the joint's own cap do not stop its turn
                 yield -c.dist, arm
 
     def _blocked(self, k: int) -> bool:
         return any(True for _ in self._levers(k))
+
+    def _sunk(self, k: int, turn: float = 0.0) -> float:
+        """How far link ``k`` (turned back by ``turn``) sinks into the object past its joint's cap.
+
+        MuJoCo gives one contact point per capsule and convex piece, at the
+        deepest point: a joint resting next to a corner of the object hides
+        a contact further along its link, which then turns through the
+        object. The geometry tells: the link's axis beyond ``_CAP`` of its
+        length must keep its clearance (``_SLACK`` of the radius, or the
+        joint's own if that is less) from the object.
+        """
+        j = self.joints()
+        p, tip = j[k], j[k + 1]
+        need = min(_SLACK * self.r, float(shapely.distance(shapely.Point(p), self.poly)))
+        a = float(np.arctan2(*(tip - p)[::-1])) - turn
+        u = np.array([np.cos(a), np.sin(a)])
+        ln = float(self.chain.link_lengths[k])
+        seg = shapely.LineString([p + _CAP * ln * u, p + ln * u])
+        return float(need - shapely.distance(seg, self.poly))
+
+    def _unsink(self, k: int) -> float:
+        """The smallest turn back that lifts link ``k`` out of the object.
+
+        At most ``_MAX_UNSINK``: more than the driven joint turns between two
+        looks of the controller.
+        """
+        for turn in np.arange(0.0, _MAX_UNSINK, 0.002):
+            if self._sunk(k, float(turn)) <= 0:
+                return float(turn)
+        return _MAX_UNSINK
 
     def _back_off(self, k: int) -> float:
         """Turn that lifts links ``k..`` out of the contacts that stopped joint ``k``.
@@ -243,7 +279,12 @@ class _Sim:
                 lag = target - self.d.qpos[k]
                 if lag > c.stall_lag and self._blocked(k):
                     break
-            self._lock(k, float(self.d.qpos[k]) - self._back_off(k))
+                if self._sunk(k) > 0.5 * self.r:  # a contact MuJoCo did not report
+                    break
+            back = self._back_off(k)
+            if self._sunk(k) > 0.5 * self.r:  # stopped, but deep in the object: lift it out
+                back = max(back, self._unsink(k))
+            self._lock(k, float(self.d.qpos[k]) - back)
         # The squeeze: brakes off, every link pressed towards the object by the
         # same moment (joint k turns the n - k links beyond it), damped, until
         # the chain rests where the contacts hold it.

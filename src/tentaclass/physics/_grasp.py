@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -209,12 +210,70 @@ def grasp(
     --------
     >>> from tentaclass import PlanarChain, grasp_state
     >>> from tentaclass.shapes import square
-    >>> g = grasp(square(4), PlanarChain([1.0] * 16))
+    >>> g = grasp(square(4), PlanarChain([1.0] * 16), start=0.1)
     >>> g.complete, grasp_state(g.angles).state.item()
-    (True, 'once')
-    >>> g.angles.shape, round(g.laps, 1)
-    ((16,), 1.0)
+    (True, 'partial')
+    >>> g.angles.shape, round(g.laps, 2)  # rigid links lose length at every corner
+    ((16,), 0.75)
     """
+    ctrl = CurlController() if controller is None else controller
+    if not isinstance(ctrl, CurlController):
+        raise InputError(f"controller must be a CurlController, got {type(ctrl).__name__}")
+    friction = check_positive_float(friction, "friction", allow_zero=True)
+    timestep = check_positive_float(timestep, "timestep")
+    su = _prepare(outline, chain, start, offset, direction, thickness, simplify)
+    if su.early is not None:
+        return su.early
+    pieces = convex_pieces(su.outline)
+    q0 = np.zeros(su.n)
+    q0[su.first] = su.q_first
+    sim = _Sim(su.norm_chain, su.outline, pieces, su.base, su.heading, q0, su.first, su.r, friction,
+               ctrl, frames, timestep, su.poly)  # fmt: skip
+    if time_limit is None:
+        time_limit = float(2 * np.sum(ctrl.max_turn / sim.omega[su.first :]) + ctrl.settle_time + 1)
+    else:
+        time_limit = check_positive_float(time_limit, "time_limit")
+    if frames:
+        sim.frames.append(sim.joints())
+    reason, steps = sim.run(time_limit)
+    q = np.array(sim.d.qpos, dtype=float)
+    joints = sim.joints()
+    fr = np.array([*sim.frames, joints]) if frames else np.zeros((0,))
+    return su.finish(q, joints, reason, float(sim.d.time), steps, sim.contact_points(), fr)
+
+
+@dataclass
+class _Setup:
+    """A grasp's start in normalised units (mean link length 1), shared by both methods.
+
+    ``early`` is the finished (incomplete) grasp when the chain cannot start.
+    """
+
+    n: int
+    outline: FloatArray
+    poly: shapely.Polygon
+    r: float
+    base: FloatArray
+    heading: float
+    first: int
+    joint: FloatArray
+    tangent: float
+    q_first: float
+    norm_chain: PlanarChain
+    finish: Callable[..., PhysicalGrasp]
+    early: PhysicalGrasp | None
+
+
+def _prepare(
+    outline: ArrayLike,
+    chain: PlanarChain,
+    start: float,
+    offset: float,
+    direction: str,
+    thickness: float | None,
+    simplify: float,
+) -> _Setup:
+    """Validate a grasp's arguments, place the base and the first link (see :func:`grasp`)."""
     if not isinstance(chain, PlanarChain):
         raise InputError(f"chain must be a PlanarChain, got {type(chain).__name__}")
     p = as_outline(outline)
@@ -224,12 +283,7 @@ def grasp(
     offset = check_positive_float(offset, "offset", allow_zero=True)
     if direction not in ("ccw", "cw"):
         raise InputError(f"direction must be one of 'ccw', 'cw', got {direction!r}")
-    ctrl = CurlController() if controller is None else controller
-    if not isinstance(ctrl, CurlController):
-        raise InputError(f"controller must be a CurlController, got {type(ctrl).__name__}")
-    friction = check_positive_float(friction, "friction", allow_zero=True)
     simplify = check_positive_float(simplify, "simplify", allow_zero=True)
-    timestep = check_positive_float(timestep, "timestep")
     ln = chain.link_lengths
     s = 1.0 / float(ln.mean())
     thickness = 0.1 / s if thickness is None else check_positive_float(thickness, "thickness")
@@ -249,7 +303,6 @@ def grasp(
         if simple.is_valid and not simple.is_empty and simple.geom_type == "Polygon":
             poly = shapely.Polygon(shapely.get_coordinates(simple.exterior)[:-1])
     o = as_outline(shapely.get_coordinates(poly.exterior)[:-1])
-    pieces = convex_pieces(o)
     poly = shapely.Polygon(o)
     shapely.prepare(poly)
     support = shapely.buffer(poly, r, quad_segs=16).exterior if r > 0 else poly.exterior
@@ -262,7 +315,6 @@ def grasp(
     norm_chain = PlanarChain(ln * s, masses=chain.masses, com=chain.com,
                              inertia=chain.inertia * s * s, gravity=chain.gravity)  # fmt: skip
     n = chain.n_links
-    q0 = np.zeros(n)
     if offset > 0:
         n_out = np.array([np.sin(tangent), -np.cos(tangent)])  # right of a ccw walk
         base = pb + offset * s * n_out
@@ -307,23 +359,15 @@ def grasp(
         along = np.r_[0.0, np.cumsum(ln * s)][:, None] * [np.cos(heading), np.sin(heading)]
         return finish(np.zeros(n), base + along, reason, 0.0, 0, np.zeros((0, 2)), np.zeros(0))
 
+    early: PhysicalGrasp | None = None
     if first >= n:
-        return straight(f"all {n} links are needed for the approach: the chain cannot reach "
-                        "the object")  # fmt: skip
+        early = straight(f"all {n} links are needed for the approach: the chain cannot reach "
+                         "the object")  # fmt: skip
+        return _Setup(n, o, poly, r, base, heading, first, joint, tangent, 0.0, norm_chain,
+                      finish, early)  # fmt: skip
     a = _clear_turn(poly, joint, tangent, float(ln[first] * s), r)
     if a is None:
-        return straight("no start pose of the first link clears the object from this start point")
-    q0[first] = _wrap_angle(a - heading)
-    sim = _Sim(norm_chain, o, pieces, base, heading, q0, first, r, friction, ctrl, frames, timestep,
-               poly)  # fmt: skip
-    if time_limit is None:
-        time_limit = float(2 * np.sum(ctrl.max_turn / sim.omega[first:]) + ctrl.settle_time + 1)
-    else:
-        time_limit = check_positive_float(time_limit, "time_limit")
-    if frames:
-        sim.frames.append(sim.joints())
-    reason, steps = sim.run(time_limit)
-    q = np.array(sim.d.qpos, dtype=float)
-    joints = sim.joints()
-    fr = np.array([*sim.frames, joints]) if frames else np.zeros((0,))
-    return finish(q, joints, reason, float(sim.d.time), steps, sim.contact_points(), fr)
+        early = straight("no start pose of the first link clears the object from this start point")
+        a = heading
+    return _Setup(n, o, poly, r, base, heading, first, joint, tangent, _wrap_angle(a - heading),
+                  norm_chain, finish, early)  # fmt: skip
