@@ -150,8 +150,8 @@ def sim_to_real(n_objects, jobs, seed=1, n_train=4000):
     objs = [random_object(c, rng, lp) for c, lp in zip(y, laps, strict=True)]
     starts = rng.uniform(0, 1, n_objects)
     dirs = np.where(rng.random(n_objects) < 0.5, "ccw", "cw")
-    train = synthetic_tentacle(n_train, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0),
-                               noise=(0.0, 0.05), seed=seed + 100)  # fmt: skip
+    train = synthetic_tentacle(n_train, 16, laps=(1.0, 1.3), offset=(0.0, 0.0),
+                               noise=(0.0, 0.05), random_state=seed + 100)  # fmt: skip
     geo = np.array([wrap(o, 16, 1.0, start=s, direction=d, mode="hug").angles
                     for o, s, d in zip(objs, starts, dirs, strict=True)])  # fmt: skip
     t0 = time.perf_counter()

@@ -282,7 +282,7 @@ def _wrap_block(wrap_many, outlines, n_links, kwargs, seed, *params):
         return {k: np.empty((0, *core(n_links)), dt) for k, (core, dt) in _WRAP_FIELDS.items()}
     names = ("link_length", "starts", "offset")
     given = {k: np.asarray(v) for k, v in zip(names, params, strict=True)}
-    batch = wrap_many(outlines, n_links, **given, **kwargs, seed=seed)
+    batch = wrap_many(outlines, n_links, **given, **kwargs, random_state=seed)
     return {k: getattr(batch, k) for k in _WRAP_FIELDS}
 
 

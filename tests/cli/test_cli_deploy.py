@@ -56,7 +56,7 @@ def wrap_then_classify(*wrap_args, classify_args=()):
                 "2",
                 "--noise",
                 "0.01",
-                "--seed",
+                "--random-state",
                 "1",
             ],
             "RECTANGLE",
@@ -78,7 +78,9 @@ def _wraps(shape, n_links, laps, offset_links, noise, seed):
     kw = {"start": 0.0, "direction": "ccw", "mode": "taut"}
     ell = _length_for_laps(outline, n_links, laps, offset=0.0, **kw)
     ell = _length_for_laps(outline, n_links, laps, offset=offset_links * ell, **kw)
-    return wrap(outline, n_links, ell, offset=offset_links * ell, noise=noise, seed=seed, **kw)
+    return wrap(
+        outline, n_links, ell, offset=offset_links * ell, noise=noise, random_state=seed, **kw
+    )
 
 
 @pytest.mark.slow
@@ -308,7 +310,7 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
     one_line_error(
         run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out), "matches no file"
     )
-    one_line_error(run(*base, "--links", 16, "--offset", "0,20"), "offset_links")
+    one_line_error(run(*base, "--links", 16, "--offset", "0,20"), "offset must stay below")
     bad = outline_files / "bad-1.csv"
     bad.write_text("0,0\n1,x\n")
     one_line_error(

@@ -214,8 +214,8 @@ def test_multiple_laps_with_thickness():
 
 
 def test_noise_is_reproducible_and_only_on_angles():
-    a = wrap(shapes.square(4), 16, 1.0, noise=0.01, seed=3)
-    b = wrap(shapes.square(4), 16, 1.0, noise=0.01, seed=3)
+    a = wrap(shapes.square(4), 16, 1.0, noise=0.01, random_state=3)
+    b = wrap(shapes.square(4), 16, 1.0, noise=0.01, random_state=3)
     c = wrap(shapes.square(4), 16, 1.0)
     assert np.array_equal(a.angles, b.angles)
     assert 0 < np.std(a.angles - c.angles) < 0.03
@@ -262,7 +262,7 @@ def test_partial_wrap_flag_when_no_next_joint():
         ({"noise": -1.0}, "noise"),
         ({"offset": -1.0}, "offset"),
         ({"offset": -1.0}, "must be >= 0"),  # was "must lie in >= 0"
-        ({"noise": 0.1, "seed": "x"}, "seed"),  # was TypeError
+        ({"noise": 0.1, "random_state": "x"}, "random_state"),  # was TypeError
     ],
 )
 def test_bad_input(kwargs, match):

@@ -112,6 +112,24 @@ _DERIVED: dict[str, tuple[tuple[str, ...], Callable[[Any], None] | None]] = {
 }
 
 
+#: Parameters and fitted attributes renamed since files were first written: old -> new.
+_RENAMED: dict[str, dict[str, str]] = {
+    "FourierFeatures": {"n_coeffs": "n_harmonics", "n_coeffs_": "n_harmonics_"},
+    "AngleSpectrum": {"n_coeffs": "n_harmonics", "n_coeffs_": "n_harmonics_"},
+    "FourierClassifier": {"n_coeffs": "n_harmonics"},
+    "ScannerModel": {"n_coeffs": "n_harmonics"},
+}
+
+
+def _renamed_keys(name: str, d: dict) -> dict:
+    """``d`` with the old names of ``name``'s parameters or attributes replaced by the new."""
+    out = dict(d)
+    for old, new in _RENAMED.get(name, {}).items():
+        if old in out and new not in out:
+            out[new] = out.pop(old)
+    return out
+
+
 def _class_name(est: object) -> str:
     name = type(est).__name__
     if _registry().get(name) is not type(est):
@@ -456,11 +474,14 @@ class _Reader:
                 f"hold ({', '.join(sorted(_registry()))})"
             )
         cls = _registry()[name]
-        params = _field(v, "params", dict, f"{where}.")
-        state = _field(v, "state", dict, f"{where}.")
+        params = _renamed_keys(name, _field(v, "params", dict, f"{where}."))
+        state = _renamed_keys(name, _field(v, "state", dict, f"{where}."))
         kwargs = {k: self.value(x, f"{name} parameter {k!r}", depth + 1) for k, x in params.items()}
         try:
             est = cls(**kwargs)
+            # an old file lacks the deprecated aliases its own names became
+            kwargs.update({k: x for k, x in est.get_params(deep=False).items() if k not in kwargs
+                           and k in _RENAMED.get(name, {})})  # fmt: skip
         except (TypeError, ValueError) as exc:
             raise ModelFileError(f"metadata: bad {name} parameters: {exc}") from None
         if set(kwargs) != set(est.get_params(deep=False)):
