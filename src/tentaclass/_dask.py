@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validation import check_seed
 from .errors import InputError, TentaclassError
 
 __all__ = [
@@ -243,15 +244,10 @@ def block_seeds(
     >>> a == b, len(set(a))
     (True, 3)
     """
+    seed = check_seed(seed)
     if isinstance(seed, np.random.Generator):
         seed = int(seed.integers(2**63))
-    try:
-        root = np.random.SeedSequence(seed)
-    except (TypeError, ValueError):
-        raise InputError(
-            f"seed must be None, an integer >= 0 or a numpy Generator, got {seed!r}"
-        ) from None
-    return root.spawn(n_blocks)
+    return np.random.SeedSequence(seed).spawn(n_blocks)
 
 
 # -- wraps ---------------------------------------------------------------------------------------

@@ -540,3 +540,22 @@ def test_best_class_score_needs_class_scores(data):
     np.testing.assert_allclose(scores, pnn[-1].class_scores(pnn[0].transform(T)).max(axis=1))
     with pytest.raises(InputError, match="LogisticRegression"):
         best_class_score(make_pipeline(FourierFeatures(), LogisticRegression()).fit(X, y), T)
+
+
+def test_every_estimator_of_the_package_may_be_saved():
+    """The allow-list names every public estimator, each under its own name."""
+    from sklearn.base import BaseEstimator
+
+    from tentaclass import classifiers, features
+    from tentaclass.io._model_file import _ALLOWED, _allowed_class
+
+    own = {
+        name
+        for module in (classifiers, features)
+        for name in module.__all__
+        if isinstance(getattr(module, name), type)
+        and issubclass(getattr(module, name), BaseEstimator)
+    }
+    assert own | {"ScannerModel"} <= set(_ALLOWED)
+    for name in _ALLOWED:
+        assert _allowed_class(name).__name__ == name

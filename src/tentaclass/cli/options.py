@@ -153,6 +153,25 @@ def object_options(verb: str) -> Callable[[_Command], _Command]:
     return decorate
 
 
+def placement_options(func: _Command) -> _Command:
+    """Where a chain starts on an object: ``--start``, ``--direction``, ``--offset``."""
+    for option in reversed([
+        click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
+                     show_default=True, help="Start point, fraction of the perimeter."),
+        click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw",
+                     show_default=True),
+        click.option("--offset", type=click.FloatRange(min=0), default=0.0, show_default=True,
+                     help="Distance of the base from the object."),
+    ]):  # fmt: skip
+        func = option(func)
+    return func
+
+
+def json_option(func: _Command) -> _Command:
+    """``--json``, passed as ``as_json``: print JSON instead of text."""
+    return click.option("--json", "as_json", is_flag=True, help="Print JSON.")(func)
+
+
 def random_state_option(help: str, default: int | None = 0) -> Callable[[_Command], _Command]:
     """``--random-state N`` (passed as ``random_state``), and its deprecated alias ``--seed``."""
 

@@ -10,7 +10,13 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import finite, object_options, random_state_option
+from .options import (
+    finite,
+    json_option,
+    object_options,
+    placement_options,
+    random_state_option,
+)
 
 
 def _numbers(text: str | None, name: str) -> list[float] | None:
@@ -65,24 +71,15 @@ def _outline(
     callback=finite,
     help="Choose the link length so the chain turns this many laps.",
 )
-@click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
-              show_default=True, help="Start point, fraction of the perimeter.")  # fmt: skip
-@click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw", show_default=True)
+@placement_options
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
-@click.option(
-    "--offset",
-    type=click.FloatRange(min=0),
-    default=0.0,
-    show_default=True,
-    help="Distance of the base from the object.",
-)
 @click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True)
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
               help="Joint noise standard deviation (radians).")  # fmt: skip
 @random_state_option("Seed of the noise [default: fresh].", default=None)
 @click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@json_option
 def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
          links: int, link_length: float | None, laps: float | None, start: float,
          direction: str, mode: str, offset: float, thickness: float, noise: float,

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import numbers
 from typing import Any
 
 import numpy as np
 from sklearn.utils import Bunch
 
 from .._deprecation import UNSET, renamed
-from .._validation import check_positive_int
+from .._validation import as_generator, check_positive_int
 from ..errors import InputError
 from ..geometry import resample_closed
 
@@ -185,13 +184,7 @@ def drawn_shapes(
             f"classes must be names from {', '.join(DRAWN_CLASSES)}, got {list(classes)!r}"
         )
     random_state = renamed("random_state", random_state, "seed", seed, default=0)
-    if (
-        isinstance(random_state, bool)
-        or not isinstance(random_state, numbers.Integral)
-        or random_state < 0
-    ):
-        raise InputError(f"random_state must be an integer >= 0, got {random_state!r}")
-    rng = np.random.default_rng(random_state)
+    rng = as_generator(random_state, allow_none=False)
     target = np.repeat(np.array(classes), n_per_class)
     strokes = [_draw_one(str(c), rng) for c in target]
     return Bunch(

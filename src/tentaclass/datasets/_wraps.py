@@ -285,8 +285,8 @@ def synthetic_tentacle(
 
 
 def _check_random_state(value: object) -> None:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 0:
-        raise InputError(f"random_state must be an integer >= 0, got {value!r}")
+    """Wraps are cached by their seed: an integer, not a Generator."""
+    check_positive_int(value, "random_state", minimum=0)
 
 
 def _generator_digest() -> str:

@@ -22,12 +22,10 @@ two-core machine).
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import lru_cache
+from functools import cache, lru_cache
 from typing import Any
 
-import numba as nb
 import numpy as np
-from threadpoolctl import ThreadpoolController
 
 from .._dask import blockwise
 from .._deprecation import UNSET, renamed
@@ -48,6 +46,11 @@ _BLOCK_ROWS = 16384
 
 #: Up to this many joints the product runs on one BLAS thread (see _features_matmul).
 _ONE_THREAD_MAX_JOINTS = 32
+
+#: Fewer rows than this make a product OpenBLAS runs on one thread anyway (it
+#: splits products of more than 2**18 multiply-adds), so no limit is set for them:
+#: setting one first scans the loaded libraries (about 0.1 s, once per process).
+_THREADED_MIN_ROWS = 128
 
 
 def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
@@ -136,7 +139,7 @@ def _features_matmul(
     out: FloatArray,
 ) -> None:
     weights, flipped, offset = _folded_weights(q.shape[1], n_harmonics, detrend, period)
-    if q.shape[1] <= _ONE_THREAD_MAX_JOINTS:
+    if q.shape[1] <= _ONE_THREAD_MAX_JOINTS and q.shape[0] >= _THREADED_MIN_ROWS:
         # A product this thin runs at memory speed; BLAS threads only add overhead
         # (at n = 16, two OpenBLAS threads made it 10 x slower on a busy machine).
         with _blas_controller().limit(limits=1, user_api="blas"):
@@ -146,8 +149,10 @@ def _features_matmul(
 
 
 @lru_cache(maxsize=1)
-def _blas_controller() -> ThreadpoolController:
-    """One controller per process: creating it scans the loaded libraries (ms)."""
+def _blas_controller() -> Any:
+    """One threadpoolctl controller per process: creating it scans the loaded libraries."""
+    from threadpoolctl import ThreadpoolController
+
     return ThreadpoolController()
 
 
@@ -171,18 +176,41 @@ def _matmul_blocks(
         _magnitudes(z, offset, n_harmonics, out[lo : lo + _BLOCK_ROWS])
 
 
-@nb.njit(cache=True, nogil=True, boundscheck=False)
+#: From this many rows on, the magnitudes take one compiled pass (numba); fewer
+#: rows are not worth importing numba and loading the compiled kernel (about a
+#: second, against microseconds for NumPy on a few rows).
+_COMPILED_MIN_ROWS = 2048
+
+
 def _magnitudes(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> None:
     """``out = |(z[:, :k] - offset[:k]) + i (z[:, k:2k] - offset[k:])|``.
 
     sqrt of the sum of squares: np.hypot is several times slower and the
     overflow it guards against cannot happen with finite angles.
     """
+    if z.shape[0] >= _COMPILED_MIN_ROWS:
+        _compiled(_magnitudes_loop)(z, offset, k, out)
+    else:  # the same sum, array by array
+        re = z[:, :k] - offset[:k]
+        im = z[:, k : 2 * k] - offset[k:]
+        np.sqrt(re * re + im * im, out=out)
+
+
+def _magnitudes_loop(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> None:
+    """The magnitudes in one pass over ``z``: the kernel numba compiles."""
     for i in range(z.shape[0]):
         for j in range(k):
             re = z[i, j] - offset[j]
             im = z[i, k + j] - offset[k + j]
             out[i, j] = np.sqrt(re * re + im * im)
+
+
+@cache
+def _compiled(func: Callable) -> Callable:
+    """``func`` compiled by numba (imported on first use; cached on disk)."""
+    import numba as nb
+
+    return nb.njit(cache=True, nogil=True, boundscheck=False)(func)
 
 
 def _features_fft(

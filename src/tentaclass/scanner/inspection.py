@@ -102,9 +102,7 @@ def _assemble(
         extent = (extent[0] - top, extent[1] - left, extent[2] - top, extent[3] - left)
     defects = find_defects(g, label, settings, extent=extent)
     defects = [d.shifted(top, left) for d in defects]
-    rr, cc = np.nonzero(g.mask)
-    bbox = (top, left, top + g.mask.shape[0], left + g.mask.shape[1])
-    centroid = (round(float(rr.mean()) + top, 6), round(float(cc.mean()) + left, 6))
+    bbox, centroid = _placement(g.mask, top, left)
     nominal = _nominal_for(nominal_size, label, model)
     if nominal is not None:
         d = _size_defect(g, nominal, size_tolerance, bbox, centroid)
@@ -115,6 +113,27 @@ def _assemble(
         defects.insert(
             0, Defect("broken", 0, bbox, centroid, 0.0, f"object in {n_pieces} separate pieces")
         )
+    return _record(g, label, confidence, bbox, centroid, defects)
+
+
+def _placement(
+    mask: np.ndarray, top: int, left: int
+) -> tuple[tuple[int, int, int, int], tuple[float, float]]:
+    """Bounding box and centroid on the belt of an object's mask cropped at (top, left)."""
+    rr, cc = np.nonzero(mask)
+    bbox = (top, left, top + mask.shape[0], left + mask.shape[1])
+    return bbox, (round(float(rr.mean()) + top, 6), round(float(cc.mean()) + left, 6))
+
+
+def _record(
+    g: Geometry,
+    label: str | None,
+    confidence: float,
+    bbox: tuple[int, int, int, int],
+    centroid: tuple[float, float],
+    defects: list[Defect],
+) -> Inspection:
+    """The inspection record of a measured object; accepted when it has no defect."""
     holes = [d for d in defects if d.kind == "hole"]
     return Inspection(
         label=label,
