@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 import shapely
-from hypothesis import assume, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from strategies import examples
@@ -110,6 +110,8 @@ def check_geometry(outline, w, ln):
     mode=st.sampled_from(["taut", "hug"]),
     offset_links=st.sampled_from([0.0, 0.5, 1.0, 2.7]),
 )
+# found by the fuzz profile: a stand-off longer than the whole chain is refused
+@example(name="L", n=1, frac=0.25, start=0.0, direction="ccw", mode="taut", offset_links=2.7)
 def test_wrap_geometry_properties(name, n, frac, start, direction, mode, offset_links):
     outline = OUTLINES[name]
     per = shapely.LinearRing(outline).length
@@ -117,9 +119,12 @@ def test_wrap_geometry_properties(name, n, frac, start, direction, mode, offset_
     try:
         w = wrap(outline, n, ln, start=start, direction=direction, mode=mode,
                  offset=offset_links * ln)  # fmt: skip
-    except InputError as e:  # a long stand-off behind another part of a non-convex object
-        assert "passes through the object" in str(e)
-        assert mode == "hug" and name in {"star", "thin star", "L", "comb"}
+    except InputError as e:
+        if offset_links > n:  # the chain cannot even reach the object
+            assert "longer than the chain" in str(e)
+        else:  # a long stand-off behind another part of a non-convex object
+            assert "passes through the object" in str(e)
+            assert mode == "hug" and name in {"star", "thin star", "L", "comb"}
         assume(False)
     assert len(w.angles) == n or not w.complete
     check_geometry(outline, w, ln)
