@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 import shapely
+from test_wrap import OUTLINES, check_geometry
 
 from tentaclass.wrapping import wrap
-from test_wrap import OUTLINES, check_geometry
 
 
 @pytest.mark.xfail(
