@@ -85,7 +85,7 @@ def make_belts(folder: Path, n_belts: int, objects: int) -> None:
     for i in range(n_belts):
         path = folder / f"belt{i:02d}.pbm"
         if not path.exists():
-            write_pbm(path, make_belt(objects, 512, seed=i, lanes=4).image)
+            write_pbm(path, make_belt(objects, 512, random_state=i, lanes=4).image)
 
 
 class RssMonitor:

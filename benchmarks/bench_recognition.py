@@ -45,17 +45,17 @@ def synthetic(out: Path, n_samples: int = 2000, folds: int = 10, n_generated: in
     0-0.05 rad, as a deployed model would be trained).
     """
     methods = ["thesis", "lap-fourier-1nn", "lap-shift-nn", "lap-spectrum-hgb", *PEERS]
-    d = synthetic_tentacle(n_samples, 16, noise=0.02, seed=0)
+    d = synthetic_tentacle(n_samples, 16, noise=0.02, random_state=0)
     r = run_benchmark(d.data, d.target, methods, n_splits=folds)
     _emit(r, "Synthetic four classes, 16 links, 1-2 laps, offset 0-3, noise 0.02", out,
           "synthetic-16")  # fmt: skip
-    g = synthetic_tentacle(n_generated, 16, noise=(0.0, 0.05), seed=7)
+    g = synthetic_tentacle(n_generated, 16, noise=(0.0, 0.05), random_state=7)
     split = np.repeat(["train", "test"], [n_generated, n_samples])
     r = run_benchmark(np.vstack([g.data, d.data]), np.concatenate([g.target, d.target]),
                       methods, split=split)  # fmt: skip
     _emit(r, f"Synthetic, trained on {n_generated} generated wraps (noise 0-0.05), tested on "
           "the same 2000 wraps (noise 0.02)", out, "synthetic-16-generated")  # fmt: skip
-    p = synthetic_tentacle(n_samples, 16, laps=(0.5, 1.0), noise=0.02, seed=1)
+    p = synthetic_tentacle(n_samples, 16, laps=(0.5, 1.0), noise=0.02, random_state=1)
     r = run_benchmark(p.data, p.target, methods, n_splits=folds)
     _emit(
         r, "Synthetic partial wraps (0.5-1 lap), 16 links, noise 0.02", out, "synthetic-16-partial"
@@ -75,7 +75,7 @@ def mpeg7(out: Path, ns, modes, noises, folds: int = 10, copies: int = 10, hug_c
                 copies_here = copies if mode == "taut" else hug_copies
                 t0 = time.perf_counter()
                 d = mpeg7_tentacle(
-                    MPEG7, n, mode, noise=noise, copies=copies_here, seed=0, n_jobs=-1
+                    MPEG7, n, mode, noise=noise, copies=copies_here, random_state=0, n_jobs=-1
                 )
                 gen = time.perf_counter() - t0
                 jammed = np.unique(d.groups[~d.complete])  # drop shapes a chain jammed on
@@ -108,7 +108,7 @@ def ucr(out: Path) -> None:
 def main(quick: bool = False, out: Path = Path("bench-results")) -> None:
     """Run the recognition benchmarks (``quick``: a small subset for a smoke run)."""
     if quick:
-        d = synthetic_tentacle(120, 16, noise=0.02, seed=0)
+        d = synthetic_tentacle(120, 16, noise=0.02, random_state=0)
         r = run_benchmark(d.data, d.target, ["thesis", "lap-fourier-1nn", "1nn-euclidean"],
                           n_splits=3)  # fmt: skip
         _emit(r, "quick synthetic", out, "quick")

@@ -92,14 +92,14 @@ def make_test_belt(
     return image, placed
 
 
-def _hull_fourier(points: np.ndarray, n_coeffs: int = 8) -> np.ndarray:
+def _hull_fourier(points: np.ndarray, n_harmonics: int = 8) -> np.ndarray:
     z = points[:, 0] + 1j * points[:, 1]
     spec = np.abs(np.fft.fft(z - z.mean(), 64 if len(z) < 64 else len(z)))
-    out = spec[1 : n_coeffs + 1]
-    return out / (spec[1] + 1e-12) if out.size == n_coeffs else np.resize(out, n_coeffs)
+    out = spec[1 : n_harmonics + 1]
+    return out / (spec[1] + 1e-12) if out.size == n_harmonics else np.resize(out, n_harmonics)
 
 
-def opencv_pipeline(image: np.ndarray, model, n_coeffs: int) -> np.ndarray:
+def opencv_pipeline(image: np.ndarray, model, n_harmonics: int) -> np.ndarray:
     """Label, measure each object's contour, hull and defects with OpenCV; classify."""
     import cv2
 
@@ -133,13 +133,13 @@ def opencv_pipeline(image: np.ndarray, model, n_coeffs: int) -> np.ndarray:
                 4 * np.pi * hull_area / perimeter**2,
                 hull_area / (np.pi * (radius + 0.5) ** 2),
                 1 / np.sqrt(area) + 0 * holes + 0 * deepest,
-                *_hull_fourier(hull[:, 0, :].astype(float), n_coeffs),
+                *_hull_fourier(hull[:, 0, :].astype(float), n_harmonics),
             ]
         )
     return model.predict_features_proba(np.asarray(feats))
 
 
-def skimage_pipeline(image: np.ndarray, model, n_coeffs: int) -> np.ndarray:
+def skimage_pipeline(image: np.ndarray, model, n_harmonics: int) -> np.ndarray:
     """Label and measure with scikit-image regionprops (hull, Euler number, axes); classify."""
     from skimage.measure import find_contours, label, regionprops
 
@@ -156,7 +156,7 @@ def skimage_pipeline(image: np.ndarray, model, n_coeffs: int) -> np.ndarray:
                 p.extent,
                 p.eccentricity,
                 1 / np.sqrt(p.area) + 0 * p.euler_number + 0 * p.orientation,
-                *_hull_fourier(ring[:, ::-1], n_coeffs),
+                *_hull_fourier(ring[:, ::-1], n_harmonics),
             ]
         )
     return model.predict_features_proba(np.asarray(feats))
@@ -177,7 +177,7 @@ def main(
     if threads is None:
         threads = tuple(sorted({1, os.cpu_count() or 1}))
     model = default_model()
-    n_coeffs = model.features([measure(np.ones((3, 3), dtype=bool))]).shape[1] - 5
+    n_harmonics = model.features([measure(np.ones((3, 3), dtype=bool))]).shape[1] - 5
     results = []
     for n_threads, name in itertools.product(threads, belts):
         with threadpool_limits(n_threads, user_api="blas"):
@@ -212,8 +212,8 @@ def main(
                 # every object below min_area: segmentation alone, nothing inspected
                 "segment": lambda: scanner(chunk_rows, found=[], min_area=10**9),
                 "label": lambda image=image: ndimage.label(image, np.ones((3, 3), bool)),
-                "opencv": lambda image=image: opencv_pipeline(image, model, n_coeffs),
-                "skimage": lambda image=image: skimage_pipeline(image, model, n_coeffs),
+                "opencv": lambda image=image: opencv_pipeline(image, model, n_harmonics),
+                "skimage": lambda image=image: skimage_pipeline(image, model, n_harmonics),
             }
             best = interleaved(runs, repeat)
             rate = {k: n_lines / t for k, t in best.items()}

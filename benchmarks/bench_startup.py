@@ -30,6 +30,8 @@ def _commands(model: Path) -> dict[str, list[str]]:
     angles = "0 0 0 1.5708 0 0 0 1.5708 0 0 0 1.5708 0 0 0 1.5708"
     return {
         'python -c "import numpy"': [*py, "-c", "import numpy"],
+        # the floor of any command that builds a scikit-learn estimator
+        'python -c "import sklearn.base"': [*py, "-c", "import sklearn.base"],
         "python -c \"import tentaclass\"": [*py, "-c", "import tentaclass"],
         "tentaclass --help": [*cli, "--help"],
         "tentaclass classify (one array, saved model)": [

@@ -32,7 +32,7 @@ OUT = Path(__file__).resolve().parents[1] / "src" / "tentaclass" / "data"
 SETTINGS = {
     "link_length": 1.0,
     "laps": (0.45, 3.2),
-    "offset_links": (0.0, 3.5),
+    "offset": (0.0, 3.5),  # a distance; the links are of unit length
     "noise": (0.0, 0.025),
     "mode": "both",
 }
@@ -77,9 +77,9 @@ def training_wraps(outlines, n_links: int, n_wraps: int, seed: int):
     from sklearn.utils import Bunch
 
     parts = [chain_wraps(outlines, n_links, n_wraps=n_wraps // 2, random_state=seed, **SETTINGS)]
-    whole = [k for k in range(int(SETTINGS["offset_links"][1]) + 1)]
+    whole = [k for k in range(int(SETTINGS["offset"][1]) + 1)]
     for k in whole:
-        settings = {**SETTINGS, "offset_links": (float(k), float(k))}
+        settings = {**SETTINGS, "offset": (float(k), float(k))}
         parts.append(
             chain_wraps(
                 outlines,

@@ -13,7 +13,7 @@ error. The recognisers never see a physical grasp.
   16 unit links wrap 1.0-1.3 laps of the perimeter, rectangle aspect 1.2-4,
   triangle angles >= 25 degrees, random rotation, start and direction, no
   approach); training: ``synthetic_tentacle(4000, 16, laps=(1.0, 1.3),
-  offset_links=(0, 0), noise=(0, 0.05))``.
+  offset=(0, 0), noise=(0, 0.05))``.
 * mpeg7: a stratified subset of ``--per-class`` silhouettes per class held
   out (seed 0); each scaled so that 64 unit links wrap 1.2-2 laps (drawn),
   rotated, random start and direction, no approach; training:
@@ -168,8 +168,8 @@ def thesis(n_objects, jobs, arrays, seed=1, n_train=4000):
         return _quasi_test(objs, 16, starts, dirs, jobs)
 
     def make_train():
-        d = synthetic_tentacle(n_train, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0),
-                               noise=(0.0, 0.05), seed=seed + 100)  # fmt: skip
+        d = synthetic_tentacle(n_train, 16, laps=(1.0, 1.3), offset=(0.0, 0.0),
+                               noise=(0.0, 0.05), random_state=seed + 100)  # fmt: skip
         return {"X": d.data, "y": d.target, "groups": np.arange(len(d.target))}
 
     def make_quasi():
@@ -240,7 +240,7 @@ def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links
 
     def make_train():
         d = chain_wraps([outlines[i] for i in train_idx], n_links, n_wraps=copies,
-                        laps=(1.2, 2.0), offset_links=(0.0, 2.0), mode="hug",
+                        laps=(1.2, 2.0), offset=(0.0, 2.0), mode="hug",
                         random_state=seed + 100)  # fmt: skip
         return {"X": d.data, "y": labels[train_idx][d.outline], "groups": train_idx[d.outline],
                 "n_failed": np.int64(d.n_failed)}  # fmt: skip

@@ -39,6 +39,21 @@ def _private_cache(tmp_path_factory, monkeypatch):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path_factory.getbasetemp() / "cache"))
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _one_openmp_thread():
+    """scikit-learn's OpenMP code (gradient-boosted trees, k-means) runs on one thread.
+
+    Its threads spin while they wait: on a machine shared with other jobs one
+    gradient-boosting fit took 20 times as long on two threads as on one. The
+    results do not depend on the thread count; BLAS is left as it is.
+    """
+    import sklearn.ensemble  # noqa: F401  (loads the OpenMP runtime the limit applies to)
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="openmp"):
+        yield
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(12345)

@@ -102,7 +102,7 @@ def test_estimators_on_cluster(client, data):
     pnn = tc.PNNClassifier(spread=0.3).fit(F, y)
     rbf = tc.RBFNetworkClassifier().fit(F, y)
     shift = tc.ShiftNNClassifier().fit(X, y)
-    feats = tc.FourierFeatures(n_coeffs=5).fit(X)
+    feats = tc.FourierFeatures(n_harmonics=5).fit(X)
     labels = client.compute(clf.predict(dX)).result()
     np.testing.assert_array_equal(labels, clf.predict(Xn))
     np.testing.assert_allclose(
@@ -135,8 +135,8 @@ def test_estimator_checks_eagerly(data):
     clf = tc.TentacleClassifier().fit(X, y)
     with pytest.raises(ValueError, match="12 features"):
         clf.predict(da.zeros((10, 12), chunks=5))
-    with pytest.raises(ValueError, match="n_coeffs"):
-        tc.fourier_features(da.zeros((10, 16), chunks=5), n_coeffs=9)
+    with pytest.raises(ValueError, match="n_harmonics"):
+        tc.fourier_features(da.zeros((10, 16), chunks=5), n_harmonics=9)
 
 
 def test_wrap_many_chunked(client):
@@ -155,7 +155,7 @@ def test_wrap_many_chunked(client):
 def test_wrap_many_noise_per_block(client):
     """Noise seeds follow the blocks: the same on 2 workers as in one process."""
     starts = da.from_array(np.linspace(0, 1, 40, endpoint=False), chunks=10)
-    lazy = tc.wrap_many(square(4.0), 16, 1.0, starts=starts, noise=0.05, seed=7)
+    lazy = tc.wrap_many(square(4.0), 16, 1.0, starts=starts, noise=0.05, random_state=7)
     on_cluster = client.compute(lazy.angles).result()
     in_process = lazy.angles.compute(scheduler="sync")
     np.testing.assert_array_equal(on_cluster, in_process)
@@ -171,8 +171,8 @@ def test_wrap_many_bag_of_outlines(client):
 
 
 def test_synthetic_tentacle_on_client(client):
-    ref = synthetic_tentacle(40, 16, seed=3)
-    got = synthetic_tentacle(40, 16, seed=3, client=client)
+    ref = synthetic_tentacle(40, 16, random_state=3)
+    got = synthetic_tentacle(40, 16, random_state=3, client=client)
     np.testing.assert_array_equal(got.data, ref.data)
     np.testing.assert_array_equal(got.target, ref.target)
     np.testing.assert_array_equal(got.laps, ref.laps)

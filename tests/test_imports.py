@@ -31,7 +31,9 @@ def test_light_imports_do_not_load_sklearn_or_matplotlib(code):
     assert _loaded_after(code) == set()
 
 
-@pytest.mark.parametrize("package", ["tentaclass", "tentaclass.features", "tentaclass.plot"])
+@pytest.mark.parametrize(
+    "package", ["tentaclass", "tentaclass.classifiers", "tentaclass.features", "tentaclass.plot"]
+)
 def test_every_public_name_resolves(package):
     module = importlib.import_module(package)
     for name in module.__all__:
@@ -51,3 +53,31 @@ def test_every_command_loads_and_is_listed():
     for name in COMMANDS:
         assert isinstance(cli.get_command(ctx, name), click.Command)
     assert cli.get_command(ctx, "no-such-command") is None
+
+
+def test_a_few_fourier_features_do_not_load_numba():
+    """numba (about a second to import and load a kernel) only serves large batches."""
+    code = (
+        "import numpy as np\n"
+        "from tentaclass.features import fourier_features\n"
+        "fourier_features(np.tile([0, 0, 0, np.pi / 2], (100, 4)))\n"
+        "import sys\n"
+        "print('numba' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_reading_a_model_file_imports_only_the_classes_it_names(tmp_path):
+    from tentaclass.classifiers import PNNClassifier
+    from tentaclass.io import save_model
+
+    path = save_model(PNNClassifier().fit([[0.0], [1.0]], [0, 1]), tmp_path / "m.tcm")
+    code = f"from tentaclass.io import load_model\nload_model({str(path)!r})"
+    probe = (
+        f"{code}\nimport sys\n"
+        "print(' '.join(m for m in ('sklearn.linear_model', 'sklearn.neural_network', "
+        "'tentaclass.scanner', 'tentaclass.wrapping', 'numba') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == []

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validation import check_seed
 from .errors import InputError, TentaclassError
 
 __all__ = [
@@ -243,15 +244,10 @@ def block_seeds(
     >>> a == b, len(set(a))
     (True, 3)
     """
+    seed = check_seed(seed)
     if isinstance(seed, np.random.Generator):
         seed = int(seed.integers(2**63))
-    try:
-        root = np.random.SeedSequence(seed)
-    except (TypeError, ValueError):
-        raise InputError(
-            f"seed must be None, an integer >= 0 or a numpy Generator, got {seed!r}"
-        ) from None
-    return root.spawn(n_blocks)
+    return np.random.SeedSequence(seed).spawn(n_blocks)
 
 
 # -- wraps ---------------------------------------------------------------------------------------
@@ -282,7 +278,7 @@ def _wrap_block(wrap_many, outlines, n_links, kwargs, seed, *params):
         return {k: np.empty((0, *core(n_links)), dt) for k, (core, dt) in _WRAP_FIELDS.items()}
     names = ("link_length", "starts", "offset")
     given = {k: np.asarray(v) for k, v in zip(names, params, strict=True)}
-    batch = wrap_many(outlines, n_links, **given, **kwargs, seed=seed)
+    batch = wrap_many(outlines, n_links, **given, **kwargs, random_state=seed)
     return {k: getattr(batch, k) for k in _WRAP_FIELDS}
 
 

@@ -87,6 +87,34 @@ def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
     return int(value)
 
 
+def check_seed(
+    value: object, name: str = "random_state", *, allow_none: bool = True
+) -> int | np.random.Generator | None:
+    """A seed: an integer >= 0, a NumPy Generator, or None (fresh entropy).
+
+    ``allow_none=False`` asks for a reproducible seed: an integer or a Generator.
+    """
+    if isinstance(value, np.random.Generator) or (value is None and allow_none):
+        return value
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool) and int(value) >= 0:
+        return int(value)
+    what = "None, an integer >= 0 or" if allow_none else "an integer >= 0 or"
+    raise InputError(f"{name} must be {what} a numpy Generator, got {value!r}")
+
+
+def as_generator(
+    value: object, name: str = "random_state", *, allow_none: bool = True
+) -> np.random.Generator:
+    """The NumPy Generator of a seed (see :func:`check_seed`).
+
+    Examples
+    --------
+    >>> float(as_generator(3).random()) == float(np.random.default_rng(3).random())
+    True
+    """
+    return np.random.default_rng(check_seed(value, name, allow_none=allow_none))
+
+
 def check_positive_float(value: object, name: str, *, allow_zero: bool = False) -> float:
     """A finite real number > 0 (or >= 0 with ``allow_zero``)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):

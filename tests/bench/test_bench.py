@@ -64,7 +64,7 @@ def test_bench_cli_bad_method():
         (["--methods", ",,"], "no method given"),
         (["--noise", "nan"], "finite"),  # was "X contains 128 NaN or infinite value(s)"
         (["--noise", "inf"], "finite"),
-        (["--seed", "-1"], "--seed"),  # was "expected non-negative integer"
+        (["--random-state", "-1"], "--random-state"),  # was "expected non-negative integer"
         (["--jobs", "0"], "--jobs"),
         (["--jobs", "-2"], "--jobs"),
         (["--laps", "2,1"], "low <= high"),
@@ -104,7 +104,7 @@ def test_bench_cli_passes_jobs_to_the_generator(tmp_path, monkeypatch):
     assert r.exit_code == 1 and "stop here" in r.output
     assert seen["n_jobs"] == 2
     assert seen["protocol"] == "fixed-chain" and seen["laps"] == (1.2, 2.0)
-    assert seen["offset_links"] == (0.0, 2.0) and seen["progress"] is True
+    assert seen["offset"] == (0.0, 2.0) and seen["progress"] is True
 
 
 def test_failed_wraps_count_as_errors_and_never_train():

@@ -22,7 +22,7 @@ SHAPES = {
 
 @pytest.fixture(scope="module")
 def model():
-    X, y = synthetic_tentacle(400, 32, laps=(0.9, 3.0), noise=(0.0, 0.03), seed=11,
+    X, y = synthetic_tentacle(400, 32, laps=(0.9, 3.0), noise=(0.0, 0.03), random_state=11,
                               return_X_y=True)  # fmt: skip
     return TentacleClassifier().fit(X, y)
 
@@ -67,7 +67,7 @@ def test_start_point_does_not_matter(model):
 
 
 def test_probabilities_are_calibrated(model):
-    X, y = synthetic_tentacle(300, 32, laps=(0.9, 3.0), noise=(0.0, 0.03), seed=12,
+    X, y = synthetic_tentacle(300, 32, laps=(0.9, 3.0), noise=(0.0, 0.03), random_state=12,
                               return_X_y=True)  # fmt: skip
     p = model.predict_proba(X)
     np.testing.assert_allclose(p.sum(axis=1), 1.0)
@@ -80,8 +80,8 @@ def test_probabilities_are_calibrated(model):
 
 
 def test_partial_wraps_are_reported_as_partial(model):
-    X, y = synthetic_tentacle(80, 32, laps=(0.5, 0.8), offset_links=(0, 2), noise=0.0,
-                              seed=13, return_X_y=True)  # fmt: skip
+    X, y = synthetic_tentacle(80, 32, laps=(0.5, 0.8), offset=(0, 2), noise=0.0,
+                              random_state=13, return_X_y=True)  # fmt: skip
     g = model.grasp(X)
     assert np.mean(g["state"] == "partial") > 0.85
     assert np.median(g["laps"][g["state"] == "partial"]) < 0.9
@@ -89,13 +89,13 @@ def test_partial_wraps_are_reported_as_partial(model):
     top2 = np.argsort(p, axis=1)[:, -2:]
     assert np.mean([c in model.classes_[t] for c, t in zip(y, top2, strict=True)]) > 0.8
     # an honest confidence: lower than on full wraps
-    Xf, _ = synthetic_tentacle(80, 32, laps=(1.2, 2.0), noise=0.0, seed=13, return_X_y=True)
+    Xf, _ = synthetic_tentacle(80, 32, laps=(1.2, 2.0), noise=0.0, random_state=13, return_X_y=True)
     assert p.max(axis=1).mean() < model.predict_proba(Xf).max(axis=1).mean()
 
 
 def test_unknown_class_is_rejected():
-    d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.0, seed=14)
-    t = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, seed=15)
+    d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.0, random_state=14)
+    t = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, random_state=15)
     # only wraps the generator made as asked (a few chains coil up past their laps)
     d_ok, t_ok = d.laps < 2.4, t.laps < 2.4
     known = d_ok & (d.target != "triangle")
@@ -113,6 +113,6 @@ def test_unknown_class_is_rejected():
     [({"n_points": 4}, "n_points"), ({"reject": 1.5}, "reject"), ({"reject": "x"}, "reject")],
 )
 def test_bad_parameters(kwargs, match):
-    X, y = synthetic_tentacle(20, 16, seed=0, return_X_y=True)
+    X, y = synthetic_tentacle(20, 16, random_state=0, return_X_y=True)
     with pytest.raises(ValueError, match=match):
         TentacleClassifier(**kwargs).fit(X, y)

@@ -89,7 +89,7 @@ def test_classify_any_chain_length():
         (["classify", "--file", "missing.csv"], "does not exist"),
         (["demo", "--noise", "nan", "--no-figures"], "finite"),
         (["demo", "--noise", "inf", "--no-figures"], "finite"),
-        (["demo", "--seed", "-1", "--no-figures"], "--seed"),
+        (["demo", "--random-state", "-1", "--no-figures"], "--random-state"),
     ],
 )
 def test_classify_bad_input_one_line_error(args, message):

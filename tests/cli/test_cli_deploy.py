@@ -56,7 +56,7 @@ def wrap_then_classify(*wrap_args, classify_args=()):
                 "2",
                 "--noise",
                 "0.01",
-                "--seed",
+                "--random-state",
                 "1",
             ],
             "RECTANGLE",
@@ -68,8 +68,13 @@ def test_wrap_piped_into_classify(args, label):
     assert wrap_then_classify(*args) == label
 
 
-def _wraps(shape, n_links, laps, offset_links, noise, seed):
-    """Joint angles as `tentaclass wrap --shape S --links N --laps L --offset O` makes them."""
+#: (noise, seed) of the wraps of each setting: clean, and as a real encoder reads them
+NOISES = ((0.0, None), (0.02, 1))
+
+
+def _wraps(shape, n_links, laps, offset_links):
+    """Joint angles as `tentaclass wrap --shape S --links N --laps L --offset O` makes them,
+    one wrap for each of NOISES (the link length does not depend on the noise)."""
     from tentaclass.cli.wrap import _outline
     from tentaclass.wrapping import link_length_for_laps as _length_for_laps
     from tentaclass.wrapping import wrap
@@ -78,7 +83,10 @@ def _wraps(shape, n_links, laps, offset_links, noise, seed):
     kw = {"start": 0.0, "direction": "ccw", "mode": "taut"}
     ell = _length_for_laps(outline, n_links, laps, offset=0.0, **kw)
     ell = _length_for_laps(outline, n_links, laps, offset=offset_links * ell, **kw)
-    return wrap(outline, n_links, ell, offset=offset_links * ell, noise=noise, seed=seed, **kw)
+    return [
+        wrap(outline, n_links, ell, offset=offset_links * ell, noise=noise, random_state=seed, **kw)
+        for noise, seed in NOISES
+    ]
 
 
 @pytest.mark.slow
@@ -94,11 +102,11 @@ def test_bundled_model_over_the_documented_range(n_links):
     for shape in ("square", "circle", "triangle", "rectangle"):
         for laps in (0.9, 1.2, 1.5, 2.0, 2.5, 3.0):
             for offset in (0.0, 1.5, 3.0):
-                for noise, seed in ((0.0, None), (0.02, 1)):
-                    try:
-                        w = _wraps(shape, n_links, laps, offset, noise, seed)
-                    except InputError:  # `wrap` refuses it too: too few links per lap
-                        continue
+                try:
+                    wraps = _wraps(shape, n_links, laps, offset)
+                except InputError:  # `wrap` refuses it too: too few links per lap
+                    continue
+                for w in wraps:
                     if 0.9 <= w.laps <= 3.0:
                         X.append(w.angles)
                         y.append(shape)
@@ -308,7 +316,7 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
     one_line_error(
         run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out), "matches no file"
     )
-    one_line_error(run(*base, "--links", 16, "--offset", "0,20"), "offset_links")
+    one_line_error(run(*base, "--links", 16, "--offset", "0,20"), "offset must stay below")
     bad = outline_files / "bad-1.csv"
     bad.write_text("0,0\n1,x\n")
     one_line_error(

@@ -64,12 +64,21 @@ def test_train_then_classify_round_trip(tmp_path, npz, training, classifier):
 def test_options_reach_the_model(tmp_path, npz):
     out = tmp_path / "m.tcm"
     r = run(
-        "train", "--data", npz, "--out", out, "--spread", "0.7", "--n-coeffs", "5", "--no-detrend"
+        "train",
+        "--data",
+        npz,
+        "--out",
+        out,
+        "--spread",
+        "0.7",
+        "--n-harmonics",
+        "5",
+        "--no-detrend",
     )
     assert r.exit_code == 0, r.output
     assert "spread 0.7," in r.output
     model = load_model(out)
-    assert model.n_coeffs == 5 and model.detrend is False and model.spread == 0.7
+    assert model.n_harmonics == 5 and model.detrend is False and model.spread == 0.7
     assert model.transform(np.zeros((1, 24)) + 2 * np.pi / 24).shape == (1, 5)
 
 
@@ -196,7 +205,7 @@ def test_bad_training_files(tmp_path, content, name, message):
         (["--spread", "wide"], "neither 'auto' nor a number"),
         (["--spread", "-1"], "finite number > 0"),
         (["--classifier", "svm"], "'svm' is not one of"),
-        (["--n-coeffs", "0"], "0"),
+        (["--n-harmonics", "0"], "0"),
     ],
 )
 def test_bad_options_are_usage_errors(tmp_path, npz, args, message):
@@ -208,8 +217,8 @@ def test_bad_options_are_usage_errors(tmp_path, npz, args, message):
 
 def test_too_many_coefficients_is_one_line_error(tmp_path, npz):
     one_line_error(
-        run("train", "--data", npz, "--out", tmp_path / "m.tcm", "--n-coeffs", "13"),
-        "n_coeffs must be between 1 and floor(n_joints / 2) = 12",
+        run("train", "--data", npz, "--out", tmp_path / "m.tcm", "--n-harmonics", "13"),
+        "n_harmonics must be between 1 and floor(n_joints / 2) = 12",
     )
 
 

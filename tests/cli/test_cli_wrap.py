@@ -30,7 +30,7 @@ def test_output_is_accepted_by_classify_parser():
 
 def test_json_laps_offset_and_noise():
     r = run(["--shape", "rectangle", "--size", "6,2", "--links", "40", "--laps", "2",
-             "--offset", "2", "--noise", "0.01", "--seed", "1", "--json"])  # fmt: skip
+             "--offset", "2", "--noise", "0.01", "--random-state", "1", "--json"])  # fmt: skip
     assert r.exit_code == 0, r.output
     d = json.loads(r.stdout)
     assert len(d["angles"]) == 40 and d["offset_links"] >= 1
@@ -67,7 +67,7 @@ def test_mask_and_plot(tmp_path):
         (["--laps", "inf"], "finite"),  # silently wrapped 7.9 laps
         (["--laps", "nan"], "finite"),
         (["--laps", "9"], "cannot close 9 laps"),  # 16 links: silently 7.9 laps
-        (["--noise", "0.1", "--seed", "-1"], "--seed"),
+        (["--noise", "0.1", "--random-state", "-1"], "--random-state"),
         (["--shape", "polygon", "--vertices", "0,0 1,1 1,0 0,1"], "intersects itself"),
     ],
 )

@@ -102,7 +102,7 @@ def test_simulate_annotate_and_model(tmp_path):
         [
             "--simulate",
             "6",
-            "--seed",
+            "--random-state",
             "3",
             "--annotate",
             str(png),
@@ -181,8 +181,8 @@ def test_pbm_header_too_large_for_memory_is_one_line_error():
 
 
 def test_negative_seed_is_usage_error():
-    result = CliRunner().invoke(scan, ["--simulate", "3", "--seed", "-1"])
-    assert result.exit_code == 2 and "--seed" in result.stderr
+    result = CliRunner().invoke(scan, ["--simulate", "3", "--random-state", "-1"])
+    assert result.exit_code == 2 and "--random-state" in result.stderr
 
 
 def _grey_belt(dtype=np.uint16):

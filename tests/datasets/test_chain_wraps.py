@@ -10,14 +10,14 @@ OUTLINES = [square(1.0), circle(1.0), triangle(side=1.0), rectangle(3.0, 1.0)]
 
 
 def test_laps_offsets_and_reproducibility():
-    kw = dict(n_wraps=12, laps=(1.2, 1.8), offset_links=(0.0, 2.0), random_state=3)
+    kw = dict(n_wraps=12, laps=(1.2, 1.8), offset=(0.0, 1.0), random_state=3)
     d = chain_wraps(OUTLINES, 24, 0.5, **kw)
     assert d.n_failed == 0 and d.data.shape == (48, 24)
     assert np.array_equal(d.outline, np.repeat(np.arange(4), 12))
     # the turn of a polygon wrap grows corner by corner, and the chain is scaled
     # to the laps from the laps it made at another size: most land in the range
     assert np.mean((d.laps > 0.95) & (d.laps < 2.05)) >= 0.85
-    assert ((d.offset >= 0) & (d.offset <= 2)).all()
+    assert ((d.offset >= 0) & (d.offset <= 1)).all()  # a distance: up to 2 links of 0.5
     # the angles alone say how many laps (the approach links do not count)
     np.testing.assert_allclose(grasp_state(d.data).laps, d.laps, atol=0.1)
     again = chain_wraps(OUTLINES, 24, 0.5, **kw)
@@ -28,7 +28,7 @@ def test_laps_offsets_and_reproducibility():
 
 
 def test_diameters_set_the_size_and_noise_the_spread():
-    kw = dict(n_wraps=20, laps=None, diameters=(6.0, 6.0), offset_links=(0.0, 0.0))
+    kw = dict(n_wraps=20, laps=None, diameters=(6.0, 6.0), offset=(0.0, 0.0))
     clean = chain_wraps([circle(1.0)], 32, **kw)
     # a circle of diameter 6 unit links: 32 links cover 32 / (6 pi) laps
     np.testing.assert_allclose(clean.laps, 32 / (6 * np.pi), rtol=0.01)
@@ -59,7 +59,7 @@ def test_both_modes_and_progress():
         ({"diameters": (2.0, 3.0)}, "either laps or diameters"),
         ({"laps": None, "diameters": (0.5, 3.0)}, "at least 1 link length"),
         ({"laps": (2.0, 1.0)}, "low <= high"),
-        ({"offset_links": (0.0, 15.0)}, "offset_links must stay below"),
+        ({"offset": (0.0, 15.0)}, "offset must stay below"),
         ({"noise": -0.1}, "noise"),
         ({"mode": "loose"}, "mode"),
         ({"random_state": 1.5}, "random_state"),

@@ -7,10 +7,10 @@ from tentaclass.datasets._wraps import mpeg7_tentacle, synthetic_tentacle
 
 
 def test_synthetic_is_deterministic_and_varied():
-    a = synthetic_tentacle(40, 16, noise=0.02, seed=3)
-    b = synthetic_tentacle(40, 16, noise=0.02, seed=3)
+    a = synthetic_tentacle(40, 16, noise=0.02, random_state=3)
+    b = synthetic_tentacle(40, 16, noise=0.02, random_state=3)
     np.testing.assert_array_equal(a.data, b.data)
-    assert not np.array_equal(a.data, synthetic_tentacle(40, 16, noise=0.02, seed=4).data)
+    assert not np.array_equal(a.data, synthetic_tentacle(40, 16, noise=0.02, random_state=4).data)
     assert a.data.shape == (40, 16) and np.all(np.isfinite(a.data))
     assert set(a.target) == {"square", "circle", "triangle", "rectangle"}
     assert np.all(a.laps > 0.6) and 1.2 < np.median(a.laps) < 1.8  # heading-based, steps at corners
@@ -19,7 +19,7 @@ def test_synthetic_is_deterministic_and_varied():
 
 
 def test_synthetic_partial_wraps():
-    d = synthetic_tentacle(30, 16, laps=(0.5, 0.9), offset_links=(0, 0), noise=0.0, seed=1)
+    d = synthetic_tentacle(30, 16, laps=(0.5, 0.9), offset=(0, 0), noise=0.0, random_state=1)
     # laps are read from headings, which jump at corners: judge the bulk
     assert np.median(d.laps) < 0.9 and np.all(d.laps < 1.3)
 
@@ -38,9 +38,9 @@ def test_synthetic_bad_noise():
         ({"laps": (-1.0, 1.0)}, "laps"),  # was silently accepted
         ({"laps": 1.0}, "pair"),  # was TypeError
         ({"laps": (1.0, 2.0, 3.0)}, "pair"),
-        ({"offset_links": (-3.0, 0.0)}, "offset_links"),
-        ({"seed": "x"}, "seed"),  # was TypeError
-        ({"seed": -1}, "seed"),
+        ({"offset": (-3.0, 0.0)}, "offset"),
+        ({"random_state": "x"}, "random_state"),  # was TypeError
+        ({"random_state": -1}, "random_state"),
     ],
 )
 def test_synthetic_bad_ranges_and_seed(kwargs, match):
@@ -51,7 +51,7 @@ def test_synthetic_bad_ranges_and_seed(kwargs, match):
 def test_mpeg7_wraps_on_a_few_files(mpeg7_folder, tmp_path):
     for name in ("apple-1.png", "apple-2.png", "Bone-1.png", "device3-1.png"):
         shutil.copy(mpeg7_folder / name, tmp_path / name)
-    d = mpeg7_tentacle(tmp_path, 32, copies=2, seed=0, cache=False)
+    d = mpeg7_tentacle(tmp_path, 32, copies=2, random_state=0, cache=False)
     assert d.data.shape == (8, 32)
     assert d.target.tolist()[:4] == ["apple", "apple", "Bone", "device3"]
     assert d.wrap_index.tolist() == [0] * 4 + [1] * 4
@@ -63,7 +63,7 @@ def test_mpeg7_wraps_on_a_few_files(mpeg7_folder, tmp_path):
         end = np.array([np.cos(heading).sum(), np.sin(heading).sum()])
         assert gap == pytest.approx(np.hypot(*end), abs=1e-9)
     assert np.all(d.closure_gap < 2.0)  # taut laps close to within a couple of links
-    again = mpeg7_tentacle(tmp_path, 32, copies=2, seed=0, cache=False)
+    again = mpeg7_tentacle(tmp_path, 32, copies=2, random_state=0, cache=False)
     np.testing.assert_array_equal(d.data, again.data)
 
 
@@ -119,8 +119,8 @@ def test_wrap_cache_is_keyed_on_the_files(mpeg7_folder, tmp_path, monkeypatch):
 
 
 def test_synthetic_return_x_y_and_modes():
-    X, y = synthetic_tentacle(12, 16, mode="hug", seed=2, return_X_y=True)
-    d = synthetic_tentacle(12, 16, mode="hug", seed=2)
+    X, y = synthetic_tentacle(12, 16, mode="hug", random_state=2, return_X_y=True)
+    d = synthetic_tentacle(12, 16, mode="hug", random_state=2)
     np.testing.assert_array_equal(X, d.data)
     assert y.tolist() == d.target.tolist() and d.complete.shape == (12,)
     with pytest.raises(ValueError, match="mode"):

@@ -82,7 +82,7 @@ def test_thesis_square_features_known_values():
     np.testing.assert_allclose(fourier_features(np.full(16, np.pi / 8)), 0, atol=1e-12)
 
 
-def test_n_coeffs_and_normalize(rng):
+def test_n_harmonics_and_normalize(rng):
     q = rng.normal(size=(4, 32))
     full = fourier_features(q)
     assert full.shape == (4, 16)
@@ -117,8 +117,8 @@ def test_periodic_signal_ramp_and_degrees():
         ({"q": [1.0]}, "at least 2"),
         ({"q": [0, np.inf, 0]}, "NaN or infinite"),
         ({"q": [[]]}, "empty"),
-        ({"q": np.zeros(8), "n_coeffs": 5}, "at most"),
-        ({"q": np.zeros(8), "n_coeffs": 0}, "at least 1"),
+        ({"q": np.zeros(8), "n_harmonics": 5}, "at most"),
+        ({"q": np.zeros(8), "n_harmonics": 0}, "at least 1"),
         ({"q": np.zeros(8), "method": "dct"}, "method"),
         ({"q": "abc"}, "array of numbers"),
     ],
@@ -130,13 +130,13 @@ def test_bad_input(kwargs, match):
 
 def test_transformer_matches_function(rng):
     X = rng.normal(size=(6, 20))
-    t = FourierFeatures(n_coeffs=7, detrend=True).fit(X)
+    t = FourierFeatures(n_harmonics=7, detrend=True).fit(X)
     np.testing.assert_allclose(t.transform(X), fourier_features(X, 7, detrend=True))
     assert t.get_feature_names_out().tolist()[:2] == ["fourier1", "fourier2"]
     with pytest.raises(ValueError, match="features"):
         t.transform(X[:, :10])
-    with pytest.raises(ValueError, match="n_coeffs"):
-        FourierFeatures(n_coeffs=11).fit(X)
+    with pytest.raises(ValueError, match="n_harmonics"):
+        FourierFeatures(n_harmonics=11).fit(X)
 
 
 def test_transformer_weight_power(rng):
@@ -148,14 +148,14 @@ def test_transformer_weight_power(rng):
         FourierFeatures(weight_power=np.nan).fit(X)
 
 
-def test_transformer_fractional_n_coeffs(rng):
+def test_transformer_fractional_n_harmonics(rng):
     X = rng.normal(size=(3, 64))
-    t = FourierFeatures(n_coeffs=0.5).fit(X)
-    assert t.n_coeffs_ == 16 and t.n_coeffs == 0.5
+    t = FourierFeatures(n_harmonics=0.5).fit(X)
+    assert t.n_harmonics_ == 16 and t.n_harmonics == 0.5
     np.testing.assert_allclose(t.transform(X), fourier_features(X, 16))
-    assert FourierFeatures(n_coeffs=0.01).fit(X).n_coeffs_ == 1
+    assert FourierFeatures(n_harmonics=0.01).fit(X).n_harmonics_ == 1
     with pytest.raises(ValueError, match="fractional"):
-        FourierFeatures(n_coeffs=1.5).fit(X)
+        FourierFeatures(n_harmonics=1.5).fit(X)
 
 
 def test_angle_spectrum_known_values():
@@ -167,7 +167,7 @@ def test_angle_spectrum_known_values():
     expected[[0, 4, 8]] = np.pi / 8
     np.testing.assert_allclose(f[0], expected, atol=1e-12)
     twice = np.tile([0.0, np.pi / 2], 8)[None]  # a smaller square, two laps in 16 joints
-    assert AngleSpectrum(n_coeffs=1).fit_transform(twice)[0, 0] == pytest.approx(np.pi / 4)
+    assert AngleSpectrum(n_harmonics=1).fit_transform(twice)[0, 0] == pytest.approx(np.pi / 4)
 
 
 @settings(max_examples=examples(40), deadline=None)
@@ -179,10 +179,10 @@ def test_angle_spectrum_ignores_where_the_chain_starts(shift, n):
     np.testing.assert_allclose(t.transform(q[:, ::-1]), t.transform(q), atol=1e-12)
 
 
-@pytest.mark.parametrize("n_coeffs", [0, 10, 2.5, True])
-def test_angle_spectrum_bad_n_coeffs(n_coeffs):
-    with pytest.raises(ValueError, match="n_coeffs"):
-        AngleSpectrum(n_coeffs=n_coeffs).fit(np.zeros((2, 16)))
+@pytest.mark.parametrize("n_harmonics", [0, 10, 2.5, True])
+def test_angle_spectrum_bad_n_harmonics(n_harmonics):
+    with pytest.raises(ValueError, match="n_harmonics"):
+        AngleSpectrum(n_harmonics=n_harmonics).fit(np.zeros((2, 16)))
 
 
 def test_angle_spectrum_feature_names():
@@ -195,15 +195,15 @@ def test_angle_spectrum_feature_names():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"n_coeffs": "half"}, "n_coeffs must be a number"),
+        ({"n_harmonics": "half"}, "n_harmonics must be a number"),
         ({"weight_power": "x"}, "weight_power must be a finite number"),
-        ({"n_coeffs": 8.0}, None),  # an integral float counts frequencies
+        ({"n_harmonics": 8.0}, None),  # an integral float counts frequencies
     ],
 )
 def test_transformer_option_types(kwargs, match, rng):
     X = rng.normal(size=(2, 16))
     if match is None:
-        assert FourierFeatures(**kwargs).fit(X).n_coeffs_ == 8
+        assert FourierFeatures(**kwargs).fit(X).n_harmonics_ == 8
         return
     with pytest.raises(ValueError, match=match):
         FourierFeatures(**kwargs).fit(X)

@@ -44,7 +44,9 @@ def fitted_models(X, y):
             FourierFeatures(normalize=True), RBFNetworkClassifier(centers="forward", n_centers=5)
         ).fit(X, y),
         "fourier-pnn": FourierClassifier(spread=0.5, detrend=True).fit(X, y),
-        "fourier-rbf": FourierClassifier(n_coeffs=8, classifier=RBFNetworkClassifier()).fit(X, y),
+        "fourier-rbf": FourierClassifier(n_harmonics=8, classifier=RBFNetworkClassifier()).fit(
+            X, y
+        ),
         "pipeline": make_pipeline(FourierFeatures(6), PNNClassifier(spread=0.3)).fit(X, y),
         "pnn": PNNClassifier(spread=0.3).fit(X, y),
         "rbf": RBFNetworkClassifier(centers="kmeans", n_centers=6, random_state=0).fit(X, y),
@@ -81,11 +83,11 @@ def test_default_recogniser_round_trips(tmp_path):
     """The default TentacleClassifier, saved without knowing its internals."""
     from tentaclass.datasets import synthetic_tentacle
 
-    d = synthetic_tentacle(160, 16, noise=(0.0, 0.02), seed=0)
+    d = synthetic_tentacle(160, 16, noise=(0.0, 0.02), random_state=0)
     ok = np.isfinite(d.data).all(axis=1)  # failed wraps come back as NaN rows
     X, y = d.data[ok], d.target[ok]
     model = TentacleClassifier().fit(X, y)
-    t = synthetic_tentacle(40, 16, laps=(0.5, 2.5), noise=(0.0, 0.02), seed=1)
+    t = synthetic_tentacle(40, 16, laps=(0.5, 2.5), noise=(0.0, 0.02), random_state=1)
     T = t.data[np.isfinite(t.data).all(axis=1)]
     loaded = load_model(save_model(model, tmp_path / "default.tcm"))
     assert type(loaded) is TentacleClassifier
@@ -309,7 +311,7 @@ def _array_spec(meta, attribute):
         (lambda m: _pnn_node(m)["state"].update(predict=1), "cannot have the attribute"),
         (lambda m: _pnn_node(m)["state"].update(_pt=1), "cannot have the attribute"),
         (lambda m: _pnn_node(m)["state"].pop("patterns_"), "patterns_"),
-        (lambda m: _features_node(m)["state"].update(n_coeffs_=99), None),
+        (lambda m: _features_node(m)["state"].update(n_harmonics_=99), None),
         (
             lambda m: _array_spec(m, "patterns_").update(dtype={"descr": "<f8"}),
             "must be a dtype string, got dict",
@@ -538,3 +540,22 @@ def test_best_class_score_needs_class_scores(data):
     np.testing.assert_allclose(scores, pnn[-1].class_scores(pnn[0].transform(T)).max(axis=1))
     with pytest.raises(InputError, match="LogisticRegression"):
         best_class_score(make_pipeline(FourierFeatures(), LogisticRegression()).fit(X, y), T)
+
+
+def test_every_estimator_of_the_package_may_be_saved():
+    """The allow-list names every public estimator, each under its own name."""
+    from sklearn.base import BaseEstimator
+
+    from tentaclass import classifiers, features
+    from tentaclass.io._model_file import _ALLOWED, _allowed_class
+
+    own = {
+        name
+        for module in (classifiers, features)
+        for name in module.__all__
+        if isinstance(getattr(module, name), type)
+        and issubclass(getattr(module, name), BaseEstimator)
+    }
+    assert own | {"ScannerModel"} <= set(_ALLOWED)
+    for name in _ALLOWED:
+        assert _allowed_class(name).__name__ == name

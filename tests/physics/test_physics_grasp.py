@@ -30,7 +30,7 @@ def recogniser():
     The polygon matcher closed by its gap chord: physical chains close less of
     a lap than geometric ones (rigid links overhang corners).
     """
-    d = synthetic_tentacle(600, 16, laps=(1.0, 1.3), offset_links=(0.0, 0.0), seed=3)
+    d = synthetic_tentacle(600, 16, laps=(1.0, 1.3), offset=(0.0, 0.0), random_state=3)
     return ShiftNNClassifier(signal="shape", closure="chord").fit(d.data, d.target)
 
 

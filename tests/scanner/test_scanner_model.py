@@ -82,7 +82,7 @@ def test_save_load_roundtrip(tmp_path, clf):
     np.testing.assert_array_equal(
         loaded.predict_proba(THESIS.test_grids), model.predict_proba(THESIS.test_grids)
     )
-    assert loaded.get_params()["n_coeffs"] == model.n_coeffs
+    assert loaded.get_params()["n_harmonics"] == model.n_harmonics
     assert loaded.nominal_sizes() == model.nominal_sizes()
     assert type(load_model(path)) is ScannerModel  # the one model-file format
     assert model_info(path)["estimator"] == "ScannerModel"
@@ -113,7 +113,7 @@ def _legacy_save(model, path):
         "classes": model.classes_.tolist(),
         "descriptors": list(model.descriptors),
         "n_points": model.n_points,
-        "n_coeffs": model.n_coeffs,
+        "n_coeffs": model.n_harmonics,
         "feature_names": model.feature_names_,
         "classifier": {"name": type(clf).__name__, "params": clf.get_params(deep=False)},
     }
@@ -235,7 +235,7 @@ def test_pickled_arrays_are_refused(tmp_path):
     [
         ({"descriptors": ("hull", "colour")}, "descriptors"),
         ({"descriptors": ()}, "at least one"),
-        ({"n_coeffs": 40}, "n_coeffs"),
+        ({"n_harmonics": 40}, "n_harmonics"),
         ({"n_points": 2}, "n_points"),
     ],
 )

@@ -28,7 +28,7 @@ def test_from_stroke_spacing_is_even_whatever_the_input():
 
 
 def test_from_stroke_same_outline_under_rotation_and_scale():
-    s = drawn_shapes(1, classes=("arrow",), seed=2).strokes[0]
+    s = drawn_shapes(1, classes=("arrow",), random_state=2).strokes[0]
     a = 0.7
     rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
     moved = shapely.LinearRing(3 * from_stroke(s, 256) @ rot.T + 5)

@@ -42,7 +42,7 @@ def _world(stroke):
 
 
 def test_classify_each_drawn_class(client):
-    d = drawn_shapes(2, seed=11)
+    d = drawn_shapes(2, random_state=11)
     for stroke, cls in zip(d.strokes, d.target, strict=True):
         r = client.post("/api/classify", json={"stroke": _world(stroke)})
         assert r.status_code == 200, r.text
@@ -55,7 +55,7 @@ def test_classify_each_drawn_class(client):
 
 def test_default_model_recognises_drawn_shapes(recognizer):
     """>= 98 % of unseen drawn strokes, every class, rejections counted as errors."""
-    d = drawn_shapes(30, seed=2024)
+    d = drawn_shapes(30, random_state=2024)
     predicted = np.array([recognizer.classify_stroke(s).label for s in d.strokes])
     assert np.mean(predicted == d.target) >= 0.98
     for cls in DRAWN_CLASSES:
@@ -64,12 +64,12 @@ def test_default_model_recognises_drawn_shapes(recognizer):
 
 def test_page_recogniser_agrees_with_the_library(client):
     """The API's answer equals the library pipeline built by hand from public functions."""
-    train = drawn_shapes(40, seed=0)
+    train = drawn_shapes(40, random_state=0)
     X = np.array(
         [points_to_angles(resample_closed(from_stroke(s, 256), N_LINKS)) for s in train.strokes]
     )
     lib = FourierClassifier(spread="auto", reject_below=1e-50).fit(X, train.target)
-    test = drawn_shapes(3, seed=99)
+    test = drawn_shapes(3, random_state=99)
     for stroke in test.strokes:
         world = np.asarray(_world(stroke))
         q = points_to_angles(resample_closed(from_stroke(world, 256), N_LINKS))
@@ -238,7 +238,7 @@ def test_teach_recognise_save_remove(fresh):
     new = hand_drawn(CROSS, seed=42, size=150).tolist()
     assert client.post("/api/classify", json={"stroke": new}).json()["label"] == "cross"
     # built-in shapes are still recognised
-    star = drawn_shapes(1, classes=("star",), seed=8).strokes[0]
+    star = drawn_shapes(1, classes=("star",), random_state=8).strokes[0]
     assert client.post("/api/classify", json={"stroke": _world(star)}).json()["label"] == "star"
     # saved: the model file answers the same, and a new server knows the shape
     q = points_to_angles(resample_closed(from_stroke(new, 256), N_LINKS))
@@ -283,7 +283,7 @@ def test_bad_requests_do_not_disturb_other_users(fresh):
     from concurrent.futures import ThreadPoolExecutor
 
     client, _, _ = fresh
-    good = drawn_shapes(2, seed=21)
+    good = drawn_shapes(2, random_state=21)
     jobs = [("good", s, c) for s, c in zip(good.strokes, good.target, strict=True)]
     bad_bodies = [{"stroke": []}, {"stroke": figure_eight().tolist()}, {"outline": [[0, 0]] * 3}]
     jobs += [("bad", b, None) for b in bad_bodies * 4]

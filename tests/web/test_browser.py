@@ -129,7 +129,7 @@ def _message(page):
 @pytest.mark.parametrize("cls", DRAWN_CLASSES)
 def test_draw_each_shape(page, library, cls):
     """The answer shown is the class drawn, and the library's answer for the same points."""
-    stroke = drawn_shapes(1, classes=(cls,), seed=31).strokes[0]
+    stroke = drawn_shapes(1, classes=(cls,), random_state=31).strokes[0]
     _draw(page, _fit(stroke))
     shown = _label(page)
     sent = np.array(page.evaluate("() => window.tentaclass.state.source.stroke"))
@@ -141,7 +141,7 @@ def test_draw_each_shape(page, library, cls):
 
 
 def test_animation_end_state_and_chain_settings(page):
-    star = drawn_shapes(1, classes=("star",), seed=4).strokes[0]
+    star = drawn_shapes(1, classes=("star",), random_state=4).strokes[0]
     _draw(page, _fit(star))
     _label(page)
     canvas = page.locator("#draw")
@@ -174,7 +174,7 @@ def test_animation_end_state_and_chain_settings(page):
 
 def test_csv_round_trip(page):
     """Angles copied from a wrap, pasted as robot data: same chain, same answer."""
-    square = drawn_shapes(1, classes=("square",), seed=9).strokes[0]
+    square = drawn_shapes(1, classes=("square",), random_state=9).strokes[0]
     _draw(page, _fit(square))
     assert _label(page) == "square"
     wrap = page.evaluate("() => window.tentaclass.last.wrap")
@@ -222,7 +222,7 @@ def test_bad_input_messages_and_png(page, tmp_path):
     assert _message(page) == ""
     assert page.locator("#draw").get_attribute("data-anim") == "done"
     # the server still answers after all that
-    _draw(page, _fit(drawn_shapes(1, classes=("square",), seed=2).strokes[0]))
+    _draw(page, _fit(drawn_shapes(1, classes=("square",), random_state=2).strokes[0]))
     assert _label(page) == "square"
 
 
@@ -256,7 +256,7 @@ def test_teach_a_new_shape(page):
 
 def test_pen_and_touch_pointers(page):
     """Strokes from pen and touch pointers (synthetic pointer events) are drawn too."""
-    circle = _fit(drawn_shapes(1, classes=("circle",), seed=12).strokes[0])
+    circle = _fit(drawn_shapes(1, classes=("circle",), random_state=12).strokes[0])
     script = """([pts, kind]) => {
         const c = document.getElementById('draw');
         const r = c.getBoundingClientRect();

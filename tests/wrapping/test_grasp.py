@@ -82,7 +82,7 @@ def generate(n_wraps: int, seed: int = 0, pool: str = "thesis"):
             direction=str(rng.choice(["ccw", "cw"])),
             offset=off_links * ln,
             noise=rng.uniform(0, 0.02),
-            seed=rng.integers(1 << 31),
+            random_state=rng.integers(1 << 31),
         )
         if 0.3 <= w.laps <= 3.5:
             rows.append((name, w))

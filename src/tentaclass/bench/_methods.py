@@ -149,7 +149,7 @@ METHODS: dict[str, Method] = {
         Method(
             "lap-fourier-lp-1nn",
             lambda: make_pipeline(
-                LastLap(), FourierClassifier(n_coeffs=0.5, classifier=KNeighborsClassifier(1))
+                LastLap(), FourierClassifier(n_harmonics=0.5, classifier=KNeighborsClassifier(1))
             ),
             "last full lap + lowest half of the |DFT| coefficients (2 pi ramp) + 1-NN",
             True,

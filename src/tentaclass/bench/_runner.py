@@ -11,6 +11,7 @@ import numpy as np
 from sklearn.base import clone
 from sklearn.model_selection import StratifiedKFold
 
+from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_float_array
 from ..errors import InputError
@@ -58,8 +59,9 @@ def run_benchmark(
     split: ArrayLike | None = None,
     failed: ArrayLike | None = None,
     n_splits: int = 10,
-    seed: int = 0,
+    random_state: int = 0,
     progress: bool = False,
+    seed: Any = UNSET,
 ) -> list[BenchResult]:
     """Stratified k-fold accuracy, fit and predict time of each method.
 
@@ -85,10 +87,12 @@ def run_benchmark(
         link). They never train and are never shown to a method; where scored
         they count as errors (predicted ``"failed"``).
     n_splits : int, default=10
-    seed : int, default=0
+    random_state : int, default=0
         Shuffles the folds.
     progress : bool, default=False
         Show a rich progress bar on stderr.
+    seed : int, optional
+        Deprecated alias of ``random_state``.
 
     Returns
     -------
@@ -103,6 +107,7 @@ def run_benchmark(
     >>> [r.accuracy for r in run_benchmark(X, y, ["thesis"], n_splits=5)]
     [1.0]
     """
+    random_state = renamed("random_state", random_state, "seed", seed, default=0)
     flags = None if failed is None else np.asarray(failed, bool)
     if flags is not None and flags.any():
         X = np.where(flags[:, None], 0.0, np.asarray(X, dtype=float))
@@ -116,7 +121,7 @@ def run_benchmark(
         raise InputError(f"unknown method(s) {unknown}; choose from {', '.join(METHODS)}")
     groups = np.arange(len(y)) if groups is None else np.asarray(groups)
     is_eval = np.ones(len(y), bool) if is_eval is None else np.asarray(is_eval, bool)
-    folds = _splits(y, groups, is_eval, split, n_splits, seed)
+    folds = _splits(y, groups, is_eval, split, n_splits, random_state)
     results = []
     bar: Any = None
     if progress:

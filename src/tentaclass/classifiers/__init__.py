@@ -1,13 +1,39 @@
-"""Classifiers: the default TentacleClassifier; the thesis pipeline, PNN, RBF, MLP, shift 1-NN."""
+"""Classifiers: the default TentacleClassifier; the thesis pipeline, PNN, RBF, MLP, shift 1-NN.
 
-from ._fourier import FourierClassifier
-from ._mlp import FixedEpochsMLPClassifier, modern_mlp, thesis_mlp
-from ._outline import OutlineClassifier
-from ._pnn import PNNClassifier
-from ._rbf import RBFNetworkClassifier
-from ._retrieval import bullseye_score, shape_distances
-from ._shift_nn import ShiftNNClassifier
-from ._tentacle import TentacleClassifier
+Every name loads its module (and scikit-learn) on first use.
+"""
+
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
+
+if TYPE_CHECKING:
+    from ._fourier import FourierClassifier
+    from ._mlp import FixedEpochsMLPClassifier, modern_mlp, thesis_mlp
+    from ._outline import OutlineClassifier
+    from ._pnn import PNNClassifier
+    from ._rbf import RBFNetworkClassifier
+    from ._retrieval import bullseye_score, shape_distances
+    from ._shift_nn import ShiftNNClassifier
+    from ._tentacle import TentacleClassifier
+
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {
+        "FixedEpochsMLPClassifier": "_mlp",
+        "FourierClassifier": "_fourier",
+        "OutlineClassifier": "_outline",
+        "PNNClassifier": "_pnn",
+        "RBFNetworkClassifier": "_rbf",
+        "ShiftNNClassifier": "_shift_nn",
+        "TentacleClassifier": "_tentacle",
+        "bullseye_score": "_retrieval",
+        "modern_mlp": "_mlp",
+        "shape_distances": "_retrieval",
+        "thesis_mlp": "_mlp",
+    },
+    globals(),
+)
 
 __all__ = [
     "FixedEpochsMLPClassifier",

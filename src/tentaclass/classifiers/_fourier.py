@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin, clone
 from sklearn.pipeline import Pipeline
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._dask import DaskMixin
+from .._deprecation import DEPRECATED, renamed_param
 from .._typing import ArrayLike, FloatArray
 from ..features import FourierFeatures
 from ._pnn import PNNClassifier
@@ -27,7 +30,7 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
 
     Parameters
     ----------
-    n_coeffs : int or float, optional
+    n_harmonics : int or float, optional
         Fourier coefficients kept; default ``floor(n_joints / 2)``; a float in
         (0, 1) keeps that fraction of them.
     detrend : bool, default=False
@@ -45,6 +48,8 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
         Rejection threshold of the default PNN (see :class:`PNNClassifier`).
     classifier : estimator, optional
         Any scikit-learn classifier to use instead of the PNN; it is cloned.
+    n_coeffs : int or float, optional
+        Deprecated alias of ``n_harmonics``.
 
     Attributes
     ----------
@@ -66,21 +71,23 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
 
     def __init__(
         self,
-        n_coeffs: int | float | None = None,
+        n_harmonics: int | float | None = None,
         detrend: bool = False,
         normalize: bool = False,
         weight_power: float = 0.0,
         spread: float | str = 0.1,
         reject_below: float | None = None,
         classifier: BaseEstimator | None = None,
+        n_coeffs: Any = DEPRECATED,
     ):
-        self.n_coeffs = n_coeffs
+        self.n_harmonics = n_harmonics
         self.detrend = detrend
         self.normalize = normalize
         self.weight_power = weight_power
         self.spread = spread
         self.reject_below = reject_below
         self.classifier = classifier
+        self.n_coeffs = n_coeffs
 
     def fit(self, X: ArrayLike, y: ArrayLike) -> FourierClassifier:
         """Fit features and classifier on joint-angle arrays.
@@ -101,7 +108,7 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
         else:
             clf = clone(self.classifier)
         features = FourierFeatures(
-            self.n_coeffs,
+            renamed_param(self, "n_harmonics", "n_coeffs"),
             detrend=self.detrend,
             normalize=self.normalize,
             weight_power=self.weight_power,
@@ -115,7 +122,7 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
         return validate_data(self, X, dtype=np.float64, reset=False)
 
     def transform(self, X: ArrayLike) -> FloatArray:
-        """Feature vectors of joint-angle arrays, shape (n_samples, n_coeffs)."""
+        """Feature vectors of joint-angle arrays, shape (n_samples, n_harmonics)."""
         X = self._checked(X)
         return self.pipeline_.named_steps["features"].transform(X)
 

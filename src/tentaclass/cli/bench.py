@@ -9,14 +9,14 @@ import numpy as np
 
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
-from .options import dask_client, finite, scheduler_option
+from .options import dask_client, finite, random_state_option, scheduler_option
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ucr", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "tentacle,thesis,shift-nn-lp,lap-shape-nn,1nn-euclidean,svc,minirocket"
 
 
 def _load(dataset: str, links: int, mode: str, noise: float, copies: int, samples: int,
-          data_dir: Path | None, seed: int, jobs: int = 1, protocol: str = "fixed-chain",
+          data_dir: Path | None, random_state: int, jobs: int = 1, protocol: str = "fixed-chain",
           laps: tuple[float, float] = (1.2, 2.0),
           offset: tuple[float, float] = (0.0, 2.0),
           client: object = None, ucr_path: Path | None = None,
@@ -26,20 +26,20 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
 
     if dataset == "reference":
         X, y = datasets.reference_tentacle(links, n_starts=max(2, samples // 4), return_X_y=True)
-        rng = np.random.default_rng(seed)
+        rng = np.random.default_rng(random_state)
         X = X + rng.normal(0.0, noise, X.shape)
         return {"X": X, "y": y}, f"reference shapes, {links} links, noise {noise:g}"
     if dataset == "synthetic":
-        d = datasets.synthetic_tentacle(samples, n_links=links, noise=noise, seed=seed, laps=laps,
-                                        offset_links=offset, mode=mode,
+        d = datasets.synthetic_tentacle(samples, n_links=links, noise=noise, laps=laps,
+                                        random_state=random_state, offset=offset, mode=mode,
                                         client=client)  # fmt: skip
         kw = {"X": d.data, "y": d.target, "failed": ~d.complete}
         return kw, f"synthetic four classes, {links} links, {mode}, noise {noise:g}"
     if dataset == "mpeg7":
         folder = data_dir or Path("../shared/data/mpeg7-part-b")
         d = datasets.mpeg7_tentacle(folder, links, mode=mode, noise=noise, copies=copies,
-                                    seed=seed, n_jobs=jobs, protocol=protocol, laps=laps,
-                                    offset_links=offset, progress=True,
+                                    random_state=random_state, n_jobs=jobs, protocol=protocol,
+                                    laps=laps, offset=offset, progress=True,
                                     client=client)  # fmt: skip
         # failed wraps stay: they count as errors
         kw = {"X": d.data, "y": d.target, "groups": d.groups, "is_eval": d.wrap_index == 0,
@@ -103,13 +103,14 @@ def _pair(ctx, param, value):
 @click.option("--laps", default="1.2,2", show_default=True, callback=_pair,
               help="Synthetic / fixed chain: laps wrapped (0.5,0.95: partial).")  # fmt: skip
 @click.option("--offset", default="0,2", show_default=True, callback=_pair,
-              help="Synthetic / fixed chain: range of the base's stand-off, in links.")  # fmt: skip
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+              help="Synthetic / fixed chain: range of the base's stand-off, a distance (the "
+              "links are of unit length: also the approach's number of links).")  # fmt: skip
+@random_state_option("Seed of the generated data and of the folds.")
 @click.option("--jobs", type=click.IntRange(min=-1), default=1, show_default=True,
               help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
 @scheduler_option
 def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, ucr_path,
-          ucr_name, protocol, laps, offset, seed, jobs, scheduler=None):  # fmt: skip
+          ucr_name, protocol, laps, offset, random_state, jobs, scheduler=None):  # fmt: skip
     """Stratified k-fold accuracy (or the official split), fit and predict time.
 
     UCR / UEA sets use their official train/test split:
@@ -127,11 +128,13 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     if jobs == 0:
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
     with dask_client(scheduler) as client:  # generates the wraps on the cluster
-        kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, seed, jobs,
-                          protocol, laps, offset, client, ucr_path, ucr_name)  # fmt: skip
+        kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, random_state,
+                          jobs, protocol, laps, offset, client, ucr_path, ucr_name)  # fmt: skip
     X = kw.pop("X")
     y = kw.pop("y")
-    results = run_benchmark(X, y, names, n_splits=folds, seed=seed, progress=True, **kw)
+    results = run_benchmark(
+        X, y, names, n_splits=folds, random_state=random_state, progress=True, **kw
+    )
     table = results_markdown(results, title)
     click.echo(table)
     out.mkdir(parents=True, exist_ok=True)

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..classifiers import FourierClassifier
 from ..datasets import thesis_tentacle
-from .options import finite
+from .options import finite, random_state_option
 
 
 def perturbed_variants(
@@ -99,9 +99,9 @@ def write_wrap_figures(out: Path) -> list[Path]:
 @click.option(
     "--noise", type=click.FloatRange(min=0), default=0.02, show_default=True, callback=finite
 )
-@click.option("--seed", type=click.IntRange(min=0), default=0, show_default=True)
+@random_state_option("Seed of the perturbed variants.")
 @click.option("--no-figures", is_flag=True, help="Skip writing figures.")
-def demo(out: Path, noise: float, seed: int, no_figures: bool) -> None:
+def demo(out: Path, noise: float, random_state: int, no_figures: bool) -> None:
     """Train on the thesis's four shapes and classify perturbed variants.
 
     Prints the thesis arrays' classes and, per kind of perturbation, how many
@@ -118,7 +118,7 @@ def demo(out: Path, noise: float, seed: int, no_figures: bool) -> None:
         table = Table(title=f"Thesis shapes, {n_links} links: trained on the 4 arrays")
         for col in ("variants", "arrays", "correct", "accuracy"):
             table.add_column(col, justify="right" if col != "variants" else "left")
-        for name, (Xv, yv) in perturbed_variants(X, y, noise, 8, seed).items():
+        for name, (Xv, yv) in perturbed_variants(X, y, noise, 8, random_state).items():
             pred = model.predict(Xv)
             ok = int(np.sum(pred == yv))
             table.add_row(name, str(len(yv)), str(ok), f"{ok / len(yv):.1%}")

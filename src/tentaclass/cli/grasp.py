@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import object_options
+from .options import json_option, object_options, placement_options
 from .wrap import _outline
 
 if TYPE_CHECKING:
@@ -52,11 +52,7 @@ def _save_figures(
 @click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
 @click.option("--link-length", type=click.FloatRange(min=0, min_open=True),
               help="Link length (default: the perimeter over the number of links).")  # fmt: skip
-@click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
-              show_default=True, help="Start point, fraction of the perimeter.")  # fmt: skip
-@click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw", show_default=True)
-@click.option("--offset", type=click.FloatRange(min=0), default=0.0, show_default=True,
-              help="Distance of the base from the object.")  # fmt: skip
+@placement_options
 @click.option("--thickness", type=click.FloatRange(min=0, min_open=True),
               help="Link diameter (default a tenth of a link).")  # fmt: skip
 @click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True)
@@ -64,7 +60,7 @@ def _save_figures(
               help="Save the final pose with its contacts (PNG, PDF, SVG).")  # fmt: skip
 @click.option("--gif", type=click.Path(dir_okay=False, path_type=Path),
               help="Save an animation of the chain closing (GIF).")  # fmt: skip
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@json_option
 def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
           links: int, link_length: float | None, start: float, direction: str, offset: float,
           thickness: float | None, friction: float, plot: Path | None, gif: Path | None,

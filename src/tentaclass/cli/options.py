@@ -7,10 +7,11 @@ Angles are numbers or simple expressions of pi (``pi/2``, ``2*pi/3``,
 from __future__ import annotations
 
 import contextlib
+import functools
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import click
 import numpy as np
@@ -148,6 +149,51 @@ def object_options(verb: str) -> Callable[[_Command], _Command]:
         ]):  # fmt: skip
             func = option(func)
         return func
+
+    return decorate
+
+
+def placement_options(func: _Command) -> _Command:
+    """Where a chain starts on an object: ``--start``, ``--direction``, ``--offset``."""
+    for option in reversed([
+        click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
+                     show_default=True, help="Start point, fraction of the perimeter."),
+        click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw",
+                     show_default=True),
+        click.option("--offset", type=click.FloatRange(min=0), default=0.0, show_default=True,
+                     help="Distance of the base from the object."),
+    ]):  # fmt: skip
+        func = option(func)
+    return func
+
+
+def json_option(func: _Command) -> _Command:
+    """``--json``, passed as ``as_json``: print JSON instead of text."""
+    return click.option("--json", "as_json", is_flag=True, help="Print JSON.")(func)
+
+
+def random_state_option(help: str, default: int | None = 0) -> Callable[[_Command], _Command]:
+    """``--random-state N`` (passed as ``random_state``), and its deprecated alias ``--seed``."""
+
+    def decorate(func: _Command) -> _Command:
+        @functools.wraps(func)
+        def command(*args: Any, random_state: int | None, seed: int | None, **kwargs: Any) -> Any:
+            if seed is not None:
+                if random_state is not None:
+                    raise click.UsageError("give --random-state only, not --seed as well")
+                random_state = seed
+            return func(*args, random_state=default if random_state is None else random_state,
+                        **kwargs)  # fmt: skip
+
+        shown = "" if default is None else f" [default: {default}]"
+        command = click.option(
+            "--seed", type=click.IntRange(min=0), default=None, hidden=True,
+            deprecated="--seed will be removed in the next release; use --random-state",
+        )(command)  # fmt: skip
+        command = click.option(
+            "--random-state", type=click.IntRange(min=0), default=None, help=help + shown
+        )(command)
+        return cast(_Command, command)
 
     return decorate
 

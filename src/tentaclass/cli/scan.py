@@ -25,7 +25,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import files_options, scheduler_option
+from .options import files_options, random_state_option, scheduler_option
 
 
 class _CountingReader:
@@ -165,9 +165,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
     metavar="N",
     help="Scan a generated belt of N random objects (some damaged) instead of FILE.",
 )
-@click.option(
-    "--seed", type=click.IntRange(min=0), default=0, show_default=True, help="Seed for --simulate."
-)
+@random_state_option("Seed of --simulate.")
 @click.option(
     "--write-belt",
     type=click.Path(dir_okay=False, path_type=Path),
@@ -204,7 +202,7 @@ def scan(
     size_tolerance: float,
     annotate: Path | None,
     simulate: int | None,
-    seed: int,
+    random_state: int,
     write_belt: Path | None,
     chunk_rows: int,
     summary: str,
@@ -247,7 +245,10 @@ def scan(
         model = ScannerModel.load(model_file) if model_file is not None else None
         if simulate is not None:
             belt = make_belt(
-                simulate, width or 256, random_state=seed, lanes=max(1, (width or 256) // 128)
+                simulate,
+                width or 256,
+                random_state=random_state,
+                lanes=max(1, (width or 256) // 128),
             )
             if write_belt is not None:
                 write_pbm(write_belt, belt.image)

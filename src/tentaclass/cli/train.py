@@ -14,7 +14,14 @@ import numpy as np
 
 from .._validation import as_angle_array
 from ..io import save_model
-from .options import dask_client, finite, parse_angle, predict_on, scheduler_option
+from .options import (
+    dask_client,
+    finite,
+    parse_angle,
+    predict_on,
+    random_state_option,
+    scheduler_option,
+)
 
 if TYPE_CHECKING:
     from rich.console import Console
@@ -270,7 +277,7 @@ def train_for_chain(
     outlines = [read_outline(f) for f in files]
     y_files = np.array(labels)
     settings: dict[str, Any] = {"link_length": link_length, "laps": laps, "diameters": diameters,
-                "offset_links": offset, "noise": noise, "mode": mode}  # fmt: skip
+                "offset": offset, "noise": noise, "mode": mode}  # fmt: skip
     with _progress_bar("wrapping") as bar:
         task = bar.add_task("wraps", total=len(outlines) * n_wraps, visible=not quiet)
         train = chain_wraps(
@@ -356,7 +363,8 @@ def train_for_chain(
 )  # fmt: skip
 @click.option(
     "--offset", "offset_text",
-    help="Stand-off of the base from the object, MIN,MAX links [default: 0,2].",
+    help="Stand-off of the base from the object, MIN,MAX, a distance in the units of "
+    "--link-length [default: 0,2 link lengths].",
 )  # fmt: skip
 @click.option(
     "--noise", "noise_text", help="Joint-noise sigma, MAX or MIN,MAX radians [default: 0]."
@@ -369,10 +377,7 @@ def train_for_chain(
     "--mode", type=click.Choice(["taut", "hug", "both"]), default="both", show_default=True,
     help="How the chain lies on concave outlines.",
 )  # fmt: skip
-@click.option(
-    "--random-state", type=click.IntRange(min=0), default=0, show_default=True,
-    help="Seed of the generated wraps.",
-)  # fmt: skip
+@random_state_option("Seed of the generated wraps.")
 @click.option(
     "--reject-rate",
     type=click.FloatRange(0, 1, min_open=True, max_open=True),
@@ -401,11 +406,15 @@ def train_for_chain(
     help="With --data: kernel width, or 'auto' to choose it on the training data.",
 )
 @click.option(
-    "--n-coeffs",
+    "--n-harmonics",
     type=click.IntRange(min=1),
     default=None,
-    help="With --data: Fourier coefficients kept [default: n_joints // 2].",
+    help="With --data: Fourier frequencies kept [default: n_joints // 2].",
 )
+@click.option(
+    "--n-coeffs", type=click.IntRange(min=1), default=None, hidden=True,
+    deprecated="--n-coeffs will be removed in the next release; use --n-harmonics",
+)  # fmt: skip
 @click.option(
     "--detrend/--no-detrend",
     default=True,
@@ -432,6 +441,7 @@ def train(
     out: Path,
     classifier: str,
     spread: float | str,
+    n_harmonics: int | None,
     n_coeffs: int | None,
     detrend: bool,
     scheduler: str | None = None,
@@ -448,7 +458,11 @@ def train(
     if (data is None) == (not outlines):
         raise ValueError("give either --data or --outlines")
     if data is not None:
-        _train_on_arrays(data, out, classifier, spread, n_coeffs, detrend, scheduler)
+        if n_coeffs is not None:
+            if n_harmonics is not None:
+                raise ValueError("give --n-harmonics only, not --n-coeffs as well")
+            n_harmonics = n_coeffs
+        _train_on_arrays(data, out, classifier, spread, n_harmonics, detrend, scheduler)
         return
     if n_links is None:
         raise ValueError("--outlines needs --links (the chain's number of links)")
@@ -456,7 +470,7 @@ def train(
         raise ValueError("give either --laps or --diameters, not both")
     diameters = _pair(diameters_text, "--diameters", None)
     laps = None if diameters is not None else _pair(laps_text, "--laps", (1.0, 2.0))
-    offset = _pair(offset_text, "--offset", (0.0, 2.0))
+    offset = _pair(offset_text, "--offset", (0.0, 2.0 * link_length))
     noise = _pair(noise_text, "--noise", (0.0, 0.0), one_is_max=True)
     files = _outline_files(outlines)
     if labels_file is not None:
@@ -490,17 +504,17 @@ def train(
 
 
 def _train_on_arrays(
-    data: Path, out: Path, classifier: str, spread: float | str, n_coeffs: int | None,
+    data: Path, out: Path, classifier: str, spread: float | str, n_harmonics: int | None,
     detrend: bool, scheduler: str | None = None,
 ) -> None:  # fmt: skip
     from ..classifiers import FourierClassifier, RBFNetworkClassifier
 
     X, y = read_training_file(data)
     if classifier == "pnn":
-        model = FourierClassifier(n_coeffs=n_coeffs, detrend=detrend, spread=spread)
+        model = FourierClassifier(n_harmonics=n_harmonics, detrend=detrend, spread=spread)
     else:
         model = FourierClassifier(
-            n_coeffs=n_coeffs, detrend=detrend, classifier=RBFNetworkClassifier(spread=spread)
+            n_harmonics=n_harmonics, detrend=detrend, classifier=RBFNetworkClassifier(spread=spread)
         )
     with dask_client(scheduler) as client:
         model.fit(X, y)

@@ -10,7 +10,13 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import finite, object_options
+from .options import (
+    finite,
+    json_option,
+    object_options,
+    placement_options,
+    random_state_option,
+)
 
 
 def _numbers(text: str | None, name: str) -> list[float] | None:
@@ -65,28 +71,19 @@ def _outline(
     callback=finite,
     help="Choose the link length so the chain turns this many laps.",
 )
-@click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
-              show_default=True, help="Start point, fraction of the perimeter.")  # fmt: skip
-@click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw", show_default=True)
+@placement_options
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
-@click.option(
-    "--offset",
-    type=click.FloatRange(min=0),
-    default=0.0,
-    show_default=True,
-    help="Distance of the base from the object.",
-)
 @click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True)
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
               help="Joint noise standard deviation (radians).")  # fmt: skip
-@click.option("--seed", type=click.IntRange(min=0), help="Seed for the noise.")
+@random_state_option("Seed of the noise [default: fresh].", default=None)
 @click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@json_option
 def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
          links: int, link_length: float | None, laps: float | None, start: float,
          direction: str, mode: str, offset: float, thickness: float, noise: float,
-         seed: int | None, plot: Path | None, as_json: bool) -> None:  # fmt: skip
+         random_state: int | None, plot: Path | None, as_json: bool) -> None:  # fmt: skip
     """Wrap a tentacle of LINKS links around an object and print its joint angles.
 
     The angles are printed space-separated, as `tentaclass classify` reads
@@ -117,7 +114,7 @@ def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path |
                 raise click.ClickException(f"--laps {laps:g}: {exc}") from None
         elif link_length is None:
             link_length = 1.0
-        w = do_wrap(outline, links, link_length, noise=noise, seed=seed, **kw)
+        w = do_wrap(outline, links, link_length, noise=noise, random_state=random_state, **kw)
         g = grasp_state(w.angles) if len(w.angles) else None
         if plot is not None:
             import matplotlib

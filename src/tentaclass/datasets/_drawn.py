@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-import numbers
+from typing import Any
 
 import numpy as np
 from sklearn.utils import Bunch
 
-from .._validation import check_positive_int
+from .._deprecation import UNSET, renamed
+from .._validation import as_generator, check_positive_int
 from ..errors import InputError
 from ..geometry import resample_closed
 
@@ -121,7 +122,11 @@ def _draw_one(cls: str, rng: np.random.Generator) -> np.ndarray:
 
 
 def drawn_shapes(
-    n_per_class: int = 20, *, classes: tuple[str, ...] | None = None, seed: int = 0
+    n_per_class: int = 20,
+    *,
+    classes: tuple[str, ...] | None = None,
+    random_state: int = 0,
+    seed: Any = UNSET,
 ) -> Bunch:
     """Strokes as a person draws outlines with a mouse, finger or pen.
 
@@ -135,7 +140,9 @@ def drawn_shapes(
         Strokes of each class.
     classes : tuple of str, optional
         Classes to draw, from :data:`DRAWN_CLASSES` (the default: all of them).
-    seed : int, default=0
+    random_state : int, default=0
+    seed : int, optional
+        Deprecated alias of ``random_state``.
 
     Returns
     -------
@@ -161,7 +168,7 @@ def drawn_shapes(
 
     Examples
     --------
-    >>> d = drawn_shapes(2, seed=1)
+    >>> d = drawn_shapes(2, random_state=1)
     >>> len(d.strokes), d.target[:3].tolist()
     (18, ['square', 'square', 'circle'])
     >>> d.strokes[0].ndim, d.strokes[0].shape[1]
@@ -176,9 +183,8 @@ def drawn_shapes(
         raise InputError(
             f"classes must be names from {', '.join(DRAWN_CLASSES)}, got {list(classes)!r}"
         )
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
-        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
-    rng = np.random.default_rng(seed)
+    random_state = renamed("random_state", random_state, "seed", seed, default=0)
+    rng = as_generator(random_state, allow_none=False)
     target = np.repeat(np.array(classes), n_per_class)
     strokes = [_draw_one(str(c), rng) for c in target]
     return Bunch(

@@ -1,6 +1,6 @@
 """Generated tentacle data: the thesis's classes and MPEG-7 silhouettes, wrapped.
 
-Everything is deterministic given ``seed``. The wraps come from
+Everything is deterministic given ``random_state``. The wraps come from
 :func:`tentaclass.wrapping.wrap_many`; this module only draws the objects and
 the wrap parameters, and for MPEG-7 finds the link length that closes one lap.
 """
@@ -14,13 +14,14 @@ import numbers
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Literal, overload
+from typing import Any, Literal, overload
 
 import numpy as np
 from shapely.geometry import Polygon
 from sklearn.utils import Bunch
 
 from .. import _dask
+from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
 from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
@@ -165,12 +166,14 @@ def synthetic_tentacle(
     n_links: int = ...,
     *,
     laps: tuple[float, float] = ...,
-    offset_links: tuple[float, float] = ...,
+    offset: tuple[float, float] = ...,
     noise: float | tuple[float, float] = ...,
     mode: str = ...,
-    seed: int = ...,
+    random_state: int = ...,
     return_X_y: Literal[False] = ...,
     client: object = ...,
+    offset_links: Any = ...,
+    seed: Any = ...,
 ) -> Bunch: ...
 
 
@@ -180,12 +183,14 @@ def synthetic_tentacle(
     n_links: int = ...,
     *,
     laps: tuple[float, float] = ...,
-    offset_links: tuple[float, float] = ...,
+    offset: tuple[float, float] = ...,
     noise: float | tuple[float, float] = ...,
     mode: str = ...,
-    seed: int = ...,
+    random_state: int = ...,
     return_X_y: Literal[True],
     client: object = ...,
+    offset_links: Any = ...,
+    seed: Any = ...,
 ) -> tuple[np.ndarray, np.ndarray]: ...
 
 
@@ -194,19 +199,21 @@ def synthetic_tentacle(
     n_links: int = 16,
     *,
     laps: tuple[float, float] = (1.0, 2.0),
-    offset_links: tuple[float, float] = (0.0, 3.0),
+    offset: tuple[float, float] = (0.0, 3.0),
     noise: float | tuple[float, float] = (0.0, 0.05),
     mode: str = "taut",
-    seed: int = 0,
+    random_state: int = 0,
     return_X_y: bool = False,
     client: object = None,
+    offset_links: Any = UNSET,
+    seed: Any = UNSET,
 ) -> Bunch | tuple:
     """Wraps of random squares, circles, triangles and rectangles by one chain.
 
     One chain of ``n_links`` unit links; each sample draws a class, a size such
     that the chain covers ``laps`` laps after its approach, a rectangle aspect
     ratio in [1.2, 4] or triangle angles (all >= 25 degrees), a rotation, a
-    start point, a direction, an offset of ``offset_links`` links and a
+    start point, a direction, a stand-off from ``offset`` and a
     joint-noise sigma from ``noise``.
 
     Parameters
@@ -215,47 +222,53 @@ def synthetic_tentacle(
     n_links : int, default=16
     laps : (float, float), default=(1, 2)
         Range of laps wrapped; use ``(0.5, 0.95)`` for partial wraps.
-    offset_links : (float, float), default=(0, 3)
-        Range of the base's stand-off, in link lengths.
+    offset : (float, float), default=(0, 3)
+        Range of the base's stand-off from the object, a distance; the links
+        are of unit length, so it is also the number of links the approach
+        takes (:attr:`tentaclass.Wrap.offset_links`, rounded up).
     noise : float or (float, float), default=(0, 0.05)
         Joint-noise sigma in radians, or the range it is drawn from.
     mode : {"taut", "hug"}, default="taut"
-    seed : int, default=0
+    random_state : int, default=0
     return_X_y : bool, default=False
         Return ``(data, target)`` instead of a Bunch.
     client : distributed.Client, optional
         Generate the wraps on this Dask cluster; the result is the same.
+    offset_links, seed : optional
+        Deprecated aliases of ``offset`` and ``random_state``.
 
     Returns
     -------
     data : Bunch
         ``data`` (n_samples, n_links) angles, ``target`` (n_samples,) class,
         ``laps`` (n_samples,) laps actually wrapped, ``offset`` (n_samples,)
-        stand-off in links, ``noise`` (n_samples,) sigma used, ``complete``
+        stand-off (a distance, in link lengths), ``noise`` (n_samples,) sigma used, ``complete``
         (n_samples,) False where the generator could not place every link (the
         row is NaN after the last placed link; count it as an error).
 
     Examples
     --------
-    >>> d = synthetic_tentacle(8, 16, seed=1)
+    >>> d = synthetic_tentacle(8, 16, random_state=1)
     >>> d.data.shape, set(d.target.tolist()) <= {'circle', 'rectangle', 'square', 'triangle'}
     ((8, 16), True)
-    >>> X, y = synthetic_tentacle(8, 16, seed=1, return_X_y=True)
+    >>> X, y = synthetic_tentacle(8, 16, random_state=1, return_X_y=True)
     >>> X.shape, y.shape
     ((8, 16), (8,))
     """
+    offset = renamed("offset", offset, "offset_links", offset_links, default=(0.0, 3.0))
+    random_state = renamed("random_state", random_state, "seed", seed, default=0)
     n_samples = check_positive_int(n_samples, "n_samples")
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     nlo, nhi = _noise_range(noise)
     laps = _range(laps, "laps", allow_zero=False)
-    offset_links = _range(offset_links, "offset_links", allow_zero=True)
-    _check_seed(seed)
+    offset = _range(offset, "offset", allow_zero=True)
+    _check_random_state(random_state)
     if mode not in ("taut", "hug"):
         raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(random_state)
     cls = rng.choice(THESIS_CLASSES, n_samples)
     lap_target = rng.uniform(*laps, n_samples)
-    off = rng.uniform(*offset_links, n_samples)
+    off = rng.uniform(*offset, n_samples)
     outlines = [_random_outline(c, 1.0, rng) for c in cls]
     starts = rng.uniform(0, 1, n_samples)
     cw = rng.random(n_samples) < 0.5
@@ -271,9 +284,9 @@ def synthetic_tentacle(
                  DESCR=descr)  # fmt: skip
 
 
-def _check_seed(seed: object) -> None:
-    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or seed < 0:
-        raise InputError(f"seed must be an integer >= 0, got {seed!r}")
+def _check_random_state(value: object) -> None:
+    """Wraps are cached by their seed: an integer, not a Generator."""
+    check_positive_int(value, "random_state", minimum=0)
 
 
 def _generator_digest() -> str:
@@ -437,7 +450,7 @@ def _fixed_chain_mpeg7(
     copies: int,
     seed: int,
     laps: tuple[float, float],
-    offset_links: tuple[float, float],
+    offset: tuple[float, float],
     progress: bool = False,
     chunk: int = 50,
     client: object = None,
@@ -451,7 +464,7 @@ def _fixed_chain_mpeg7(
     rng = np.random.default_rng(seed)
     m = len(outlines) * copies
     lap_target = rng.uniform(*laps, m)
-    off = rng.uniform(*offset_links, m)
+    off = rng.uniform(*offset, m)
     starts = rng.uniform(0, 1, m)
     cw = rng.random(m) < 0.5
     theta = rng.uniform(0, 2 * np.pi, m)
@@ -494,15 +507,17 @@ def mpeg7_tentacle(
     *,
     protocol: str = "one-lap",
     laps: tuple[float, float] = (1.2, 2.0),
-    offset_links: tuple[float, float] = (0.0, 2.0),
+    offset: tuple[float, float] = (0.0, 2.0),
     noise: float = 0.0,
     copies: int = 1,
-    seed: int = 0,
+    random_state: int = 0,
     max_vertices: int = 1000,
     cache: bool = True,
     n_jobs: int | None = None,
     progress: bool = False,
     client: object = None,
+    offset_links: Any = UNSET,
+    seed: Any = UNSET,
 ) -> Bunch:
     """Tentacle wraps of every MPEG-7 Part B silhouette.
 
@@ -510,8 +525,9 @@ def mpeg7_tentacle(
 
     - ``"fixed-chain"``: what a robot meets. One chain of ``n_links`` unit
       links; each silhouette is rotated at random and scaled at random so that
-      the chain wraps a number of laps drawn from ``laps`` after an approach of
-      ``offset_links`` links, from a random start point in a random direction.
+      the chain wraps a number of laps drawn from ``laps`` after an approach
+      from a stand-off drawn from ``offset``, from a random start point in a
+      random direction.
       Wraps the generator cannot complete are kept, flagged in ``complete``:
       score them as errors.
     - ``"one-lap"``: the link length is tuned per silhouette (by bisection) so
@@ -528,14 +544,16 @@ def mpeg7_tentacle(
     laps : (float, float), default=(1.2, 2.0)
         Fixed chain: range of the laps wrapped after the approach;
         ``(0.5, 0.95)`` gives partial wraps.
-    offset_links : (float, float), default=(0, 2)
-        Fixed chain: range of the base's stand-off, in links.
+    offset : (float, float), default=(0, 2)
+        Fixed chain: range of the base's stand-off from the object, a
+        distance; the links are of unit length, so it is also the number of
+        links of the approach (rounded up).
     noise : float, default=0.0
         Joint-noise sigma in radians.
     copies : int, default=1
         Wraps per silhouette, each with its own draws. Copy 0 is the one to
         score; the others can serve as extra training data.
-    seed : int, default=0
+    random_state : int, default=0
     max_vertices : int, default=1000
         Outlines are resampled to at most this many vertices first.
     cache : bool, default=True
@@ -551,6 +569,8 @@ def mpeg7_tentacle(
         Fixed chain: show a progress bar (rich, on stderr) while wrapping.
     client : distributed.Client, optional
         Generate the wraps on this Dask cluster; the wraps are the same.
+    offset_links, seed : optional
+        Deprecated aliases of ``offset`` and ``random_state``.
 
     Returns
     -------
@@ -560,7 +580,8 @@ def mpeg7_tentacle(
         names, ``complete`` False where the wrap failed (the chain jammed
         before placing every link, or the generator refused it; the row is NaN
         after the last placed link), ``laps`` the laps wrapped (fixed chain;
-        NaN for the one-lap protocol), ``offset`` the stand-off in links,
+        NaN for the one-lap protocol), ``offset`` the stand-off (a distance, in
+        link lengths),
         ``closure_gap`` how far (in links) the noise-free chain's last joint
         ends from its first. One-lap protocol: from some start points no link
         length closes the lap; such wraps are retried from up to eight other
@@ -568,10 +589,24 @@ def mpeg7_tentacle(
 
     Examples
     --------
+    On the whole folder this wraps all 1400 silhouettes; here two of them:
+
+    >>> import shutil, tempfile
     >>> from pathlib import Path
-    >>> folder = Path("../shared/data/mpeg7-part-b")
-    >>> d = mpeg7_tentacle(folder, 64, "hug", protocol="fixed-chain") if folder.is_dir() else None
+    >>> mpeg7 = Path("../shared/data/mpeg7-part-b")
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> for name in ["apple-1.png", "bat-1.png"] if mpeg7.is_dir() else []:
+    ...     _ = shutil.copy(mpeg7 / name, folder)
+    >>> if mpeg7.is_dir():
+    ...     d = mpeg7_tentacle(folder, 64, "hug", protocol="fixed-chain", cache=False)
+    ...     print(d.data.shape, d.target.tolist())
+    ... else:
+    ...     print((2, 64), ["apple", "bat"])
+    (2, 64) ['apple', 'bat']
+    >>> shutil.rmtree(folder)
     """
+    offset = renamed("offset", offset, "offset_links", offset_links, default=(0.0, 2.0))
+    random_state = renamed("random_state", random_state, "seed", seed, default=0)
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
     noise = check_positive_float(noise, "noise", allow_zero=True)
@@ -580,13 +615,14 @@ def mpeg7_tentacle(
     if protocol not in PROTOCOLS:
         raise InputError(f"protocol must be one of {', '.join(PROTOCOLS)}, got {protocol!r}")
     laps = _range(laps, "laps", allow_zero=False)
-    offset_links = _range(offset_links, "offset_links", allow_zero=True)
-    _check_seed(seed)
+    offset = _range(offset, "offset", allow_zero=True)
+    _check_random_state(random_state)
     outlines, labels, names = load_mpeg7(folder, max_vertices=max_vertices, cache=cache)
-    key = {"n": n_links, "mode": mode, "copies": copies, "seed": int(seed), "mv": max_vertices,
-           "protocol": protocol, "code": _generator_digest(), **_folder_key(folder)}  # fmt: skip
+    key = {"n": n_links, "mode": mode, "copies": copies, "seed": int(random_state),
+           "mv": max_vertices, "protocol": protocol, "code": _generator_digest(),
+           **_folder_key(folder)}  # fmt: skip
     if protocol == "fixed-chain":
-        key.update(laps=list(laps), offset_links=list(offset_links))
+        key.update(laps=list(laps), offset=list(offset))
     path = _cache_path(key)
     n_shapes = len(outlines)
     if cache and path.exists():
@@ -599,9 +635,9 @@ def mpeg7_tentacle(
                 n_links,
                 mode,
                 copies,
-                seed,
+                random_state,
                 laps,
-                offset_links,
+                offset,
                 progress,
                 chunk=50 if client is None else 1000,
                 client=client,
@@ -609,7 +645,7 @@ def mpeg7_tentacle(
         else:
             with _dask.on_client(client):
                 jobs = -1 if client is not None else n_jobs
-                angles = _one_lap_wraps(outlines, n_links, mode, copies, seed, n_jobs=jobs)
+                angles = _one_lap_wraps(outlines, n_links, mode, copies, random_state, n_jobs=jobs)
             done = np.all(np.isfinite(angles), axis=1)
             got, off = np.full(len(angles), np.nan), np.zeros(len(angles))
         if cache:
@@ -619,7 +655,7 @@ def mpeg7_tentacle(
             tmp.replace(path)
     gap = _closure_gaps(angles)
     gap[~done] = np.nan
-    rng = np.random.default_rng([seed, 1])
+    rng = np.random.default_rng([random_state, 1])
     if noise > 0:
         angles = angles + rng.normal(0.0, noise, angles.shape)
     what = f"one-lap wraps of {n_links} tuned links"
@@ -658,11 +694,12 @@ def chain_wraps(
     n_wraps: int = 50,
     laps: tuple[float, float] | None = (1.0, 2.0),
     diameters: tuple[float, float] | None = None,
-    offset_links: tuple[float, float] = (0.0, 2.0),
+    offset: tuple[float, float] = (0.0, 2.0),
     noise: float | tuple[float, float] = 0.0,
     mode: str = "taut",
     random_state: int = 0,
     progress: Callable[[int, int], None] | None = None,
+    offset_links: Any = UNSET,
 ) -> Bunch:
     """Wraps of given outlines by one fixed chain, as a robot would measure them.
 
@@ -670,7 +707,7 @@ def chain_wraps(
     links of ``link_length``: every wrap draws a size (so that the chain
     covers ``laps`` laps after its approach, or so that the object's diameter
     is in ``diameters``), a rotation, a start point, a direction, a stand-off
-    of ``offset_links`` links and a joint-noise sigma from ``noise``. Wraps
+    from ``offset`` and a joint-noise sigma from ``noise``. Wraps
     that stop early are left out (``outline`` tells which remain).
 
     Parameters
@@ -689,8 +726,10 @@ def chain_wraps(
         Range of object diameters (largest distance between two outline
         points), in the units of ``link_length``; the number of laps then
         follows from the size.
-    offset_links : (float, float), default=(0, 2)
-        Range of the base's stand-off from the object, in link lengths.
+    offset : (float, float), default=(0, 2)
+        Range of the base's stand-off from the object, a distance in the units
+        of ``link_length``; the approach takes ``ceil(offset / link_length)``
+        links.
     noise : float or (float, float), default=0
         Joint-noise sigma in radians, or the range it is drawn from.
     mode : {"taut", "hug", "both"}, default="taut"
@@ -698,12 +737,14 @@ def chain_wraps(
     random_state : int, default=0
     progress : callable, optional
         Called as ``progress(done, total)`` while the wraps are generated.
+    offset_links : (float, float), optional
+        Deprecated: the stand-off range in links, ``offset / link_length``.
 
     Returns
     -------
     data : Bunch
         ``data`` (n, n_links) joint angles; ``outline`` (n,) index of the
-        outline wrapped; ``laps``, ``offset`` (in links), ``noise``, ``mode``
+        outline wrapped; ``laps``, ``offset`` (a distance), ``noise``, ``mode``
         (n,) per wrap; ``n_failed``, the number of wraps left out.
 
     Examples
@@ -734,11 +775,15 @@ def chain_wraps(
                 f"diameters must be at least 1 link length (a link must fit across the "
                 f"object), got {diameters!r}"
             )
-    offset_links = _range(offset_links, "offset_links", allow_zero=True)
-    if offset_links[1] >= n_links - 2:
+    if offset_links is not UNSET:
+        links = _range(offset_links, "offset_links", allow_zero=True)
+        offset = renamed("offset", offset, "offset_links", (links[0] * ell, links[1] * ell),
+                         default=(0.0, 2.0))  # fmt: skip
+    offset = _range(offset, "offset", allow_zero=True)
+    if offset[1] / ell >= n_links - 2:
         raise InputError(
-            f"offset_links must stay below n_links - 2 = {n_links - 2} so that links reach "
-            f"the object, got {offset_links!r}"
+            f"offset must stay below (n_links - 2) * link_length = {(n_links - 2) * ell:g} "
+            f"so that links reach the object, got {offset!r}"
         )
     nlo, nhi = _noise_range(noise)
     if mode not in ("taut", "hug", "both"):
@@ -748,7 +793,7 @@ def chain_wraps(
     rng = np.random.default_rng(int(random_state))
     total = len(shapes) * n_wraps
     index = np.repeat(np.arange(len(shapes)), n_wraps)
-    off = rng.uniform(*offset_links, total)
+    off = rng.uniform(offset[0] / ell, offset[1] / ell, total)  # in links
     starts = rng.uniform(0, 1, total)
     cw = rng.random(total) < 0.5
     sigma = rng.uniform(nlo, nhi, total)
@@ -789,7 +834,7 @@ def chain_wraps(
         data=out[done],
         outline=index[done],
         laps=got[done],
-        offset=off[done],
+        offset=off[done] * ell,
         noise=sigma[done],
         mode=np.where(hug, "hug", "taut")[done],
         n_failed=int((~done).sum()),

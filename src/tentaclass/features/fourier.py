@@ -8,7 +8,7 @@ scale.
 
 Everything from ``q`` to the complex coefficients is linear, so for short
 chains the whole transform - cumulative sum, ramp and DFT - folds into one
-``(n, 2 * n_coeffs)`` weight matrix: a batch costs one matrix product plus a
+``(n, 2 * n_harmonics)`` weight matrix: a batch costs one matrix product plus a
 magnitude, which beats ``numpy.fft`` on the batch for small ``n``
 (see ``benchmarks/bench_fourier.py``). Long chains use the FFT.
 
@@ -22,13 +22,13 @@ two-core machine).
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import lru_cache
+from functools import cache, lru_cache
+from typing import Any
 
-import numba as nb
 import numpy as np
-from threadpoolctl import ThreadpoolController
 
 from .._dask import blockwise
+from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_angle_array, check_positive_float, check_positive_int
 from ..errors import InputError
@@ -46,6 +46,11 @@ _BLOCK_ROWS = 16384
 
 #: Up to this many joints the product runs on one BLAS thread (see _features_matmul).
 _ONE_THREAD_MAX_JOINTS = 32
+
+#: Fewer rows than this make a product OpenBLAS runs on one thread anyway (it
+#: splits products of more than 2**18 multiply-adds), so no limit is set for them:
+#: setting one first scans the loaded libraries (about 0.1 s, once per process).
+_THREADED_MIN_ROWS = 128
 
 
 def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
@@ -86,7 +91,7 @@ def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
 
 @lru_cache(maxsize=32)
 def _folded_weights(
-    n: int, n_coeffs: int, detrend: bool, period: float
+    n: int, n_harmonics: int, detrend: bool, period: float
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Folded weights of the whole transform, for one chain length.
 
@@ -96,7 +101,7 @@ def _folded_weights(
     form ``-q[::-1]`` of a clockwise one; the last column of ``weights`` is all
     ones, so the same product also yields each row's total turn.
     """
-    k = np.arange(1, n_coeffs + 1)
+    k = np.arange(1, n_harmonics + 1)
     j = np.arange(n)
     phase = 2 * np.pi * (np.outer(j, k) % n) / n
     dft = np.concatenate([np.cos(phase), -np.sin(phase)], axis=1)  # (n, 2K): E @ dft
@@ -105,7 +110,7 @@ def _folded_weights(
     if detrend:
         # E = t - t_n * ramp = q @ (cumsum - 1 ramp^T): linear, no offset.
         linear = (cumsum - ramp[None, :]) @ dft
-        offset = np.zeros(2 * n_coeffs)
+        offset = np.zeros(2 * n_harmonics)
     else:
         linear = cumsum @ dft
         offset = (period * ramp) @ dft
@@ -127,25 +132,27 @@ def _canonical_block(q: FloatArray, canonicalize: bool) -> FloatArray:
 
 def _features_matmul(
     q: FloatArray,
-    n_coeffs: int,
+    n_harmonics: int,
     detrend: bool,
     period: float,
     canonicalize: bool,
     out: FloatArray,
 ) -> None:
-    weights, flipped, offset = _folded_weights(q.shape[1], n_coeffs, detrend, period)
-    if q.shape[1] <= _ONE_THREAD_MAX_JOINTS:
+    weights, flipped, offset = _folded_weights(q.shape[1], n_harmonics, detrend, period)
+    if q.shape[1] <= _ONE_THREAD_MAX_JOINTS and q.shape[0] >= _THREADED_MIN_ROWS:
         # A product this thin runs at memory speed; BLAS threads only add overhead
         # (at n = 16, two OpenBLAS threads made it 10 x slower on a busy machine).
         with _blas_controller().limit(limits=1, user_api="blas"):
-            _matmul_blocks(q, weights, flipped, offset, n_coeffs, canonicalize, out)
+            _matmul_blocks(q, weights, flipped, offset, n_harmonics, canonicalize, out)
     else:
-        _matmul_blocks(q, weights, flipped, offset, n_coeffs, canonicalize, out)
+        _matmul_blocks(q, weights, flipped, offset, n_harmonics, canonicalize, out)
 
 
 @lru_cache(maxsize=1)
-def _blas_controller() -> ThreadpoolController:
-    """One controller per process: creating it scans the loaded libraries (ms)."""
+def _blas_controller() -> Any:
+    """One threadpoolctl controller per process: creating it scans the loaded libraries."""
+    from threadpoolctl import ThreadpoolController
+
     return ThreadpoolController()
 
 
@@ -154,7 +161,7 @@ def _matmul_blocks(
     weights: FloatArray,
     flipped: FloatArray,
     offset: FloatArray,
-    n_coeffs: int,
+    n_harmonics: int,
     canonicalize: bool,
     out: FloatArray,
 ) -> None:
@@ -166,16 +173,31 @@ def _matmul_blocks(
             if cw.any():
                 z[cw, :-1] = block[cw] @ flipped
         # |re + i im| with the offset taken off, in one compiled pass over the block
-        _magnitudes(z, offset, n_coeffs, out[lo : lo + _BLOCK_ROWS])
+        _magnitudes(z, offset, n_harmonics, out[lo : lo + _BLOCK_ROWS])
 
 
-@nb.njit(cache=True, nogil=True, boundscheck=False)
+#: From this many rows on, the magnitudes take one compiled pass (numba); fewer
+#: rows are not worth importing numba and loading the compiled kernel (about a
+#: second, against microseconds for NumPy on a few rows).
+_COMPILED_MIN_ROWS = 2048
+
+
 def _magnitudes(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> None:
     """``out = |(z[:, :k] - offset[:k]) + i (z[:, k:2k] - offset[k:])|``.
 
     sqrt of the sum of squares: np.hypot is several times slower and the
     overflow it guards against cannot happen with finite angles.
     """
+    if z.shape[0] >= _COMPILED_MIN_ROWS:
+        _compiled(_magnitudes_loop)(z, offset, k, out)
+    else:  # the same sum, array by array
+        re = z[:, :k] - offset[:k]
+        im = z[:, k : 2 * k] - offset[k:]
+        np.sqrt(re * re + im * im, out=out)
+
+
+def _magnitudes_loop(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> None:
+    """The magnitudes in one pass over ``z``: the kernel numba compiles."""
     for i in range(z.shape[0]):
         for j in range(k):
             re = z[i, j] - offset[j]
@@ -183,9 +205,17 @@ def _magnitudes(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> N
             out[i, j] = np.sqrt(re * re + im * im)
 
 
+@cache
+def _compiled(func: Callable) -> Callable:
+    """``func`` compiled by numba (imported on first use; cached on disk)."""
+    import numba as nb
+
+    return nb.njit(cache=True, nogil=True, boundscheck=False)(func)
+
+
 def _features_fft(
     q: FloatArray,
-    n_coeffs: int,
+    n_harmonics: int,
     detrend: bool,
     period: float,
     canonicalize: bool,
@@ -196,7 +226,7 @@ def _features_fft(
     for lo in range(0, q.shape[0], _BLOCK_ROWS):
         t = np.cumsum(_canonical_block(q[lo : lo + _BLOCK_ROWS], canonicalize), axis=1)
         t -= (t[:, -1:] if detrend else period) * ramp
-        out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_coeffs + 1])
+        out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_harmonics + 1])
 
 
 #: Rows with an angle beyond this are computed scaled down (squares would overflow).
@@ -206,7 +236,7 @@ _SCALE_ABOVE = 2.0**400
 def _rescaled_rows(
     kernel: Callable[..., None],
     q: FloatArray,
-    n_coeffs: int,
+    n_harmonics: int,
     detrend: bool,
     period: float,
     canonicalize: bool,
@@ -221,8 +251,8 @@ def _rescaled_rows(
     """
     for qi, row in zip(q, rows, strict=True):
         s = np.ldexp(1.0, int(np.frexp(np.abs(qi).max())[1]) - 1)
-        one = np.empty((1, n_coeffs))
-        kernel(qi[None] / s, n_coeffs, detrend, period / s, canonicalize, one)
+        one = np.empty((1, n_harmonics))
+        kernel(qi[None] / s, n_harmonics, detrend, period / s, canonicalize, one)
         with np.errstate(over="ignore"):
             out[row] = one[0] * s
         if not np.all(np.isfinite(out[row])):
@@ -235,13 +265,14 @@ def _rescaled_rows(
 @blockwise
 def fourier_features(
     q: ArrayLike,
-    n_coeffs: int | None = None,
+    n_harmonics: int | None = None,
     *,
     detrend: bool = False,
     normalize: bool = False,
     canonicalize: bool = True,
     period: float = 2 * np.pi,
     method: str = "auto",
+    n_coeffs: Any = UNSET,
 ) -> FloatArray:
     """Magnitudes of the DFT of the periodic turning signal: the feature vector.
 
@@ -250,8 +281,8 @@ def fourier_features(
     q : array_like of shape (..., n_joints)
         Relative joint angles, at least 2 (two links out and back are the
         smallest closed chain). Leading axes are a batch.
-    n_coeffs : int, optional
-        Keep frequencies ``1..n_coeffs``; default all of ``1..floor(n_joints/2)``.
+    n_harmonics : int, optional
+        Keep frequencies ``1..n_harmonics``; default all of ``1..floor(n_joints/2)``.
     detrend : bool, default=False
         Use the measured total turn for the ramp (see :func:`periodic_signal`).
         Recommended for noisy joint angles.
@@ -268,11 +299,13 @@ def fourier_features(
         ``"matmul"``: one product with precomputed weights (cumulative sum, ramp
         and DFT folded together); ``"fft"``: cumulative sum then ``rfft``.
         ``"auto"`` takes the matrix product up to ``MATMUL_MAX_JOINTS`` joints.
+    n_coeffs : int, optional
+        Deprecated alias of ``n_harmonics``.
 
     Returns
     -------
-    features : ndarray of shape (..., n_coeffs)
-        ``|DFT(E)|_k`` for ``k = 1..n_coeffs``, with
+    features : ndarray of shape (..., n_harmonics)
+        ``|DFT(E)|_k`` for ``k = 1..n_harmonics``, with
         ``E_k = t_k - period * k / n`` (eq 4.5).
 
     Notes
@@ -294,14 +327,15 @@ def fourier_features(
     """
     q = as_angle_array(q, "q", min_joints=2)
     period = check_positive_float(period, "period")
+    n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs)
     n = q.shape[-1]
-    if n_coeffs is None:
-        n_coeffs = n // 2
-    n_coeffs = check_positive_int(n_coeffs, "n_coeffs")
-    if n_coeffs > n // 2:
+    if n_harmonics is None:
+        n_harmonics = n // 2
+    n_harmonics = check_positive_int(n_harmonics, "n_harmonics")
+    if n_harmonics > n // 2:
         raise InputError(
-            f"n_coeffs must be at most floor(n_joints / 2) = {n // 2} "
-            f"for {n} joints, got {n_coeffs}"
+            f"n_harmonics must be at most floor(n_joints / 2) = {n // 2} "
+            f"for {n} joints, got {n_harmonics}"
         )
     if method not in ("auto", "matmul", "fft"):
         raise InputError(f"method must be one of 'auto', 'matmul', 'fft', got {method!r}")
@@ -309,12 +343,12 @@ def fourier_features(
         method = "matmul" if n <= MATMUL_MAX_JOINTS else "fft"
     batch = q.shape[:-1]
     flat = np.ascontiguousarray(q.reshape(-1, n))
-    out = np.empty((flat.shape[0], n_coeffs))
+    out = np.empty((flat.shape[0], n_harmonics))
     kernel = _features_matmul if method == "matmul" else _features_fft
-    args = (n_coeffs, bool(detrend), period, bool(canonicalize))
+    args = (n_harmonics, bool(detrend), period, bool(canonicalize))
     huge = np.abs(flat).max(axis=1) > _SCALE_ABOVE
     if huge.any():
-        tame = np.empty((int(np.count_nonzero(~huge)), n_coeffs))
+        tame = np.empty((int(np.count_nonzero(~huge)), n_harmonics))
         kernel(np.ascontiguousarray(flat[~huge]), *args, tame)
         out[~huge] = tame
         _rescaled_rows(kernel, flat[huge], *args, out=out, rows=np.flatnonzero(huge))
@@ -322,4 +356,4 @@ def fourier_features(
         kernel(flat, *args, out)
     if normalize:
         out /= n
-    return out.reshape(*batch, n_coeffs)
+    return out.reshape(*batch, n_harmonics)

@@ -7,11 +7,14 @@ per row.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from .._dask import DaskMixin
+from .._deprecation import DEPRECATED, renamed_attribute, renamed_param
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_finite_float, check_frequency_count, check_positive_int, check_X
 from ..errors import InputError
@@ -26,8 +29,8 @@ class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
 
     Parameters
     ----------
-    n_coeffs : int or float, optional
-        Frequencies ``1..n_coeffs`` to keep; default ``floor(n_joints / 2)``. A
+    n_harmonics : int or float, optional
+        Frequencies ``1..n_harmonics`` to keep; default ``floor(n_joints / 2)``. A
         float in (0, 1) keeps that fraction of them (at least one), so one
         setting serves chains of any length: on MPEG-7 wraps of 64 links, the
         lowest half (``0.5``) classified 2-3 points better than all of them,
@@ -43,34 +46,40 @@ class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
         like ``1 / k``; a power of 0.5 balances distances between noise-heavy
         low and shape-carrying high frequencies (measured on MPEG-7 wraps with
         0.05 rad noise: see BENCHMARKS.md).
+    n_coeffs : int or float, optional
+        Deprecated alias of ``n_harmonics``.
 
     Attributes
     ----------
     n_features_in_ : int
         Number of joint angles per row seen in ``fit``.
-    n_coeffs_ : int
-        Number of output features.
+    n_harmonics_ : int
+        Number of output features (``n_coeffs_`` is its deprecated alias).
 
     Examples
     --------
     >>> import numpy as np
     >>> from tentaclass.datasets import thesis_tentacle
     >>> X, y = thesis_tentacle(16, return_X_y=True)
-    >>> FourierFeatures(n_coeffs=4).fit_transform(X).shape
+    >>> FourierFeatures(n_harmonics=4).fit_transform(X).shape
     (4, 4)
     """
 
     def __init__(
         self,
-        n_coeffs: int | float | None = None,
+        n_harmonics: int | float | None = None,
         detrend: bool = False,
         normalize: bool = False,
         weight_power: float = 0.0,
+        n_coeffs: Any = DEPRECATED,
     ):
-        self.n_coeffs = n_coeffs
+        self.n_harmonics = n_harmonics
         self.detrend = detrend
         self.normalize = normalize
         self.weight_power = weight_power
+        self.n_coeffs = n_coeffs
+
+    n_coeffs_ = renamed_attribute("n_harmonics_", "n_coeffs_")
 
     def fit(self, X: ArrayLike, y: ArrayLike | None = None) -> FourierFeatures:
         """Check ``X`` and fix the number of joints and coefficients.
@@ -91,8 +100,9 @@ class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
             raise InputError(
                 f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
             )
-        k = n // 2 if self.n_coeffs is None else self.n_coeffs
-        self.n_coeffs_ = check_frequency_count(k, n // 2, "n_coeffs", "floor(n_joints / 2)")
+        k = renamed_param(self, "n_harmonics", "n_coeffs")
+        k = n // 2 if k is None else k
+        self.n_harmonics_ = check_frequency_count(k, n // 2, "n_harmonics", "floor(n_joints / 2)")
         check_finite_float(self.weight_power, "weight_power")
         return self
 
@@ -105,21 +115,21 @@ class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
 
         Returns
         -------
-        features : ndarray of shape (n_samples, n_coeffs_)
+        features : ndarray of shape (n_samples, n_harmonics_)
         """
         check_is_fitted(self)
         X = check_X(self, X, dtype=np.float64, reset=False)
         features = fourier_features(
-            X, self.n_coeffs_, detrend=self.detrend, normalize=self.normalize
+            X, self.n_harmonics_, detrend=self.detrend, normalize=self.normalize
         )
         if self.weight_power:
-            features *= np.arange(1, self.n_coeffs_ + 1) ** float(self.weight_power)
+            features *= np.arange(1, self.n_harmonics_ + 1) ** float(self.weight_power)
         return features
 
     def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
         """Names ``fourier1 .. fourierK`` of the output columns."""
         check_is_fitted(self)
-        return np.array([f"fourier{k}" for k in range(1, self.n_coeffs_ + 1)], dtype=object)
+        return np.array([f"fourier{k}" for k in range(1, self.n_harmonics_ + 1)], dtype=object)
 
 
 class LastLap(DaskMixin, TransformerMixin, BaseEstimator):
@@ -192,25 +202,31 @@ class AngleSpectrum(DaskMixin, TransformerMixin, BaseEstimator):
 
     Parameters
     ----------
-    n_coeffs : int, optional
-        Frequencies ``0 .. n_coeffs - 1`` to keep; default all
+    n_harmonics : int, optional
+        Frequencies ``0 .. n_harmonics - 1`` to keep; default all
         ``floor(n_joints / 2) + 1`` of them.
+    n_coeffs : int, optional
+        Deprecated alias of ``n_harmonics``.
 
     Attributes
     ----------
     n_features_in_ : int
-    n_coeffs_ : int
+    n_harmonics_ : int
+        Number of output features (``n_coeffs_`` is its deprecated alias).
 
     Examples
     --------
     >>> import numpy as np
     >>> square = np.tile([0, 0, 0, np.pi / 2], 4)[None]
-    >>> AngleSpectrum(n_coeffs=5).fit_transform(square).round(4)
+    >>> AngleSpectrum(n_harmonics=5).fit_transform(square).round(4)
     array([[0.3927, 0.    , 0.    , 0.    , 0.3927]])
     """
 
-    def __init__(self, n_coeffs: int | None = None):
+    def __init__(self, n_harmonics: int | None = None, n_coeffs: Any = DEPRECATED):
+        self.n_harmonics = n_harmonics
         self.n_coeffs = n_coeffs
+
+    n_coeffs_ = renamed_attribute("n_harmonics_", "n_coeffs_")
 
     def fit(self, X: ArrayLike, y: ArrayLike | None = None) -> AngleSpectrum:
         """Check ``X`` and the number of coefficients.
@@ -226,16 +242,17 @@ class AngleSpectrum(DaskMixin, TransformerMixin, BaseEstimator):
         """
         X = check_X(self, X, dtype=np.float64)
         top = X.shape[1] // 2 + 1
-        k = top if self.n_coeffs is None else check_positive_int(self.n_coeffs, "n_coeffs")
+        given = renamed_param(self, "n_harmonics", "n_coeffs")
+        k = top if given is None else check_positive_int(given, "n_harmonics")
         if k > top:
             raise InputError(
-                f"n_coeffs must be at most floor(n_joints / 2) + 1 = {top}, got {self.n_coeffs}"
+                f"n_harmonics must be at most floor(n_joints / 2) + 1 = {top}, got {given}"
             )
-        self.n_coeffs_ = int(k)
+        self.n_harmonics_ = int(k)
         return self
 
     def transform(self, X: ArrayLike) -> FloatArray:
-        """``|rfft(q)| / n_joints``, frequencies ``0 .. n_coeffs_ - 1``.
+        """``|rfft(q)| / n_joints``, frequencies ``0 .. n_harmonics_ - 1``.
 
         Parameters
         ----------
@@ -243,13 +260,13 @@ class AngleSpectrum(DaskMixin, TransformerMixin, BaseEstimator):
 
         Returns
         -------
-        features : ndarray of shape (n_samples, n_coeffs_)
+        features : ndarray of shape (n_samples, n_harmonics_)
         """
         check_is_fitted(self)
         X = check_X(self, X, dtype=np.float64, reset=False)
-        return np.abs(np.fft.rfft(X, axis=1)[:, : self.n_coeffs_]) / X.shape[1]
+        return np.abs(np.fft.rfft(X, axis=1)[:, : self.n_harmonics_]) / X.shape[1]
 
     def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
         """Names ``spectrum0 .. spectrumK-1`` of the output columns."""
         check_is_fitted(self)
-        return np.array([f"spectrum{k}" for k in range(self.n_coeffs_)], dtype=object)
+        return np.array([f"spectrum{k}" for k in range(self.n_harmonics_)], dtype=object)

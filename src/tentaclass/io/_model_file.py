@@ -27,6 +27,7 @@ PNN or RBF network, or a bare PNN or RBF network) are still read.
 from __future__ import annotations
 
 import hashlib
+import importlib
 import io
 import json
 import keyword
@@ -35,12 +36,13 @@ import os
 import zipfile
 import zlib
 from collections.abc import Callable
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .. import classifiers
 from ..errors import InputError, ModelFileError
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "load_model", "model_info", "save_model"]
@@ -78,24 +80,31 @@ _ZIP_ERRORS = (
 # ------------------------------------------------------------------ registry
 
 
-@lru_cache(maxsize=1)
-def _registry() -> dict[str, type]:
-    """Every class a model file may name: the project's estimators and a few of sklearn's."""
-    from sklearn.base import BaseEstimator
-    from sklearn.linear_model import LogisticRegression
-    from sklearn.neighbors import KNeighborsClassifier
-    from sklearn.neural_network import MLPClassifier
-    from sklearn.pipeline import FeatureUnion, Pipeline
-    from sklearn.preprocessing import LabelBinarizer, StandardScaler
+#: Every class a model file may name (the project's estimators and a few of
+#: scikit-learn's), and the module it is imported from: only the classes a file
+#: names are imported when it is read.
+_ALLOWED: dict[str, str] = {
+    **dict.fromkeys(["AngleSpectrum", "FourierFeatures", "LastLap"], "tentaclass.features"),
+    # every estimator of the classifiers package (the package loads a class on first use)
+    **dict.fromkeys(
+        [name for name in classifiers.__all__ if name.endswith("Classifier")],
+        "tentaclass.classifiers",
+    ),
+    "ScannerModel": "tentaclass.scanner",
+    "FeatureUnion": "sklearn.pipeline",
+    "Pipeline": "sklearn.pipeline",
+    "KNeighborsClassifier": "sklearn.neighbors",
+    "LabelBinarizer": "sklearn.preprocessing",
+    "LogisticRegression": "sklearn.linear_model",
+    "MLPClassifier": "sklearn.neural_network",
+    "StandardScaler": "sklearn.preprocessing",
+}
 
-    from .. import classifiers, features
-    from ..scanner.model import ScannerModel
 
-    own = [getattr(m, n) for m in (classifiers, features) for n in m.__all__]
-    allowed = [c for c in own if isinstance(c, type) and issubclass(c, BaseEstimator)]
-    allowed += [ScannerModel, Pipeline, FeatureUnion, StandardScaler, MLPClassifier,
-                LabelBinarizer, LogisticRegression, KNeighborsClassifier]  # fmt: skip
-    return {cls.__name__: cls for cls in allowed}
+@cache
+def _allowed_class(name: str) -> type:
+    """The class a model file names as ``name`` (which must be in ``_ALLOWED``)."""
+    return getattr(importlib.import_module(_ALLOWED[name]), name)
 
 
 def _rebuild_knn(est: Any) -> None:
@@ -115,12 +124,30 @@ _DERIVED: dict[str, tuple[tuple[str, ...], Callable[[Any], None] | None]] = {
 }
 
 
+#: Parameters and fitted attributes renamed since files were first written: old -> new.
+_RENAMED: dict[str, dict[str, str]] = {
+    "FourierFeatures": {"n_coeffs": "n_harmonics", "n_coeffs_": "n_harmonics_"},
+    "AngleSpectrum": {"n_coeffs": "n_harmonics", "n_coeffs_": "n_harmonics_"},
+    "FourierClassifier": {"n_coeffs": "n_harmonics"},
+    "ScannerModel": {"n_coeffs": "n_harmonics"},
+}
+
+
+def _renamed_keys(name: str, d: dict) -> dict:
+    """``d`` with the old names of ``name``'s parameters or attributes replaced by the new."""
+    out = dict(d)
+    for old, new in _RENAMED.get(name, {}).items():
+        if old in out and new not in out:
+            out[new] = out.pop(old)
+    return out
+
+
 def _class_name(est: object) -> str:
     name = type(est).__name__
-    if _registry().get(name) is not type(est):
+    if name not in _ALLOWED or _allowed_class(name) is not type(est):
         raise InputError(
             f"save_model cannot save a {name}: model files hold only "
-            f"{', '.join(sorted(_registry()))} (and pipelines of them)"
+            f"{', '.join(sorted(_ALLOWED))} (and pipelines of them)"
         )
     return name
 
@@ -453,17 +480,20 @@ class _Reader:
         if set(v) != {"__estimator__", "params", "state"}:
             raise ModelFileError(f"metadata: {where} must hold __estimator__, params and state")
         name = v["__estimator__"]
-        if not isinstance(name, str) or name not in _registry():
+        if not isinstance(name, str) or name not in _ALLOWED:
             raise ModelFileError(
                 f"metadata: {where} is a {name!r}, which is not an estimator model files may "
-                f"hold ({', '.join(sorted(_registry()))})"
+                f"hold ({', '.join(sorted(_ALLOWED))})"
             )
-        cls = _registry()[name]
-        params = _field(v, "params", dict, f"{where}.")
-        state = _field(v, "state", dict, f"{where}.")
+        cls = _allowed_class(name)
+        params = _renamed_keys(name, _field(v, "params", dict, f"{where}."))
+        state = _renamed_keys(name, _field(v, "state", dict, f"{where}."))
         kwargs = {k: self.value(x, f"{name} parameter {k!r}", depth + 1) for k, x in params.items()}
         try:
             est = cls(**kwargs)
+            # an old file lacks the deprecated aliases its own names became
+            kwargs.update({k: x for k, x in est.get_params(deep=False).items() if k not in kwargs
+                           and k in _RENAMED.get(name, {})})  # fmt: skip
         except (TypeError, ValueError) as exc:
             raise ModelFileError(f"metadata: bad {name} parameters: {exc}") from None
         if set(kwargs) != set(est.get_params(deep=False)):

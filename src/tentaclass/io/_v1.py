@@ -115,18 +115,17 @@ def _build_classifier(
 
 def _build_features(rec: object, n_out: int) -> FourierFeatures:
     where = "features."
-    n_coeffs = _field(rec, "n_coeffs", (int, type(None)), where)
     ff = FourierFeatures(
-        n_coeffs=n_coeffs,
+        n_harmonics=_field(rec, "n_coeffs", (int, type(None)), where),
         detrend=_field(rec, "detrend", bool, where),
         normalize=_field(rec, "normalize", bool, where),
     )
-    ff.n_coeffs_ = _field(rec, "n_coeffs_", int, where)
+    ff.n_harmonics_ = _field(rec, "n_coeffs_", int, where)
     ff.n_features_in_ = _field(rec, "n_features_in", int, where)
     n = ff.n_features_in_
-    if not (n >= 3 and 1 <= ff.n_coeffs_ <= n // 2 and ff.n_coeffs_ == n_out):
+    if not (n >= 3 and 1 <= ff.n_harmonics_ <= n // 2 and ff.n_harmonics_ == n_out):
         raise ModelFileError(
-            f"metadata: features ({n} joints -> {ff.n_coeffs_} coefficients) do not fit "
+            f"metadata: features ({n} joints -> {ff.n_harmonics_} coefficients) do not fit "
             f"a classifier of {n_out} features"
         )
     return ff
@@ -156,7 +155,7 @@ def build_v1(meta: dict, arrays: dict[str, np.ndarray]) -> object:
     where = "tentacle_params."
     custom = _field(tp, "custom_classifier", bool, where)
     params = {
-        "n_coeffs": _field(tp, "n_coeffs", (int, type(None)), where),
+        "n_harmonics": _field(tp, "n_coeffs", (int, type(None)), where),
         "detrend": _field(tp, "detrend", bool, where),
         "normalize": _field(tp, "normalize", bool, where),
         "spread": _field(tp, "spread", (int, float, str), where),

@@ -34,6 +34,12 @@ def _one(q: ArrayLike) -> np.ndarray:
     return q
 
 
+def _label(ax: Any, x: str, y: str, title: str) -> None:
+    ax.set_xlabel(x)
+    ax.set_ylabel(y)
+    ax.set_title(title)
+
+
 def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the chain traced by the joint angles (unit links); returns the lines."""
     q = _one(q)
@@ -43,9 +49,7 @@ def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     lines = ax.plot(p[:, 0], p[:, 1], **kwargs)
     ax.plot(p[:1, 0], p[:1, 1], "s", color="black", label="base")
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x [link lengths]")
-    ax.set_ylabel("y [link lengths]")
-    ax.set_title("shape")
+    _label(ax, "x [link lengths]", "y [link lengths]", "shape")
     return lines
 
 
@@ -55,9 +59,7 @@ def plot_turning(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     ax = axes_or_new(ax)
     k = np.arange(1, q.size + 1)
     lines = ax.step(k, turning_function(q), where="post", **kwargs)
-    ax.set_xlabel("link k")
-    ax.set_ylabel("t_k [rad]")
-    ax.set_title("turning function")
+    _label(ax, "link k", "t_k [rad]", "turning function")
     return lines
 
 
@@ -71,9 +73,7 @@ def plot_periodic_signal(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     ax.axhline(0, color="grey", lw=0.5)
     if not e.any():  # a regular polygon: show the zero line on a readable scale
         ax.set_ylim(-1, 1)
-    ax.set_xlabel("link k")
-    ax.set_ylabel("E_k [rad]")
-    ax.set_title("periodic signal")
+    _label(ax, "link k", "E_k [rad]", "periodic signal")
     return lines
 
 
@@ -86,9 +86,7 @@ def plot_features(q: ArrayLike, ax: Any = None, **kwargs: Any) -> Any:
     if not f.any():  # a regular polygon: every feature is zero
         ax.set_ylim(0, 1)
         ax.text(0.5, 0.5, "all zero", transform=ax.transAxes, ha="center", color="0.4")
-    ax.set_xlabel("frequency k")
-    ax.set_ylabel("|DFT(E)|")
-    ax.set_title("feature vector")
+    _label(ax, "frequency k", "|DFT(E)|", "feature vector")
     return bars
 
 

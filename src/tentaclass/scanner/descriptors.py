@@ -16,7 +16,7 @@ Descriptor groups (``descriptors=`` of :class:`~tentaclass.scanner.ScannerModel`
     fill of the minimum bounding circle, and the tentacle features of the hull
     outline: a chord walk of ``n_points`` equal steps around it
     (:func:`~tentaclass.geometry.resample_closed`), its turning angles
-    (:func:`~tentaclass.geometry.points_to_angles`) and the first ``n_coeffs``
+    (:func:`~tentaclass.geometry.points_to_angles`) and the first ``n_harmonics``
     :func:`~tentaclass.features.fourier_features`; plus the pixel scale
     ``1 / sqrt(area)``, which only matters for tiny objects (a one-pixel
     "circle" and a 2 x 2 "square" have the same hull shape).
@@ -37,12 +37,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import shapely
 from skimage.measure import regionprops
 
+from .._deprecation import UNSET, renamed
 from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
@@ -281,13 +282,13 @@ def _padded_rings(coords: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:
     return batch
 
 
-def _outlines_fourier(batch: np.ndarray, n_points: int, n_coeffs: int) -> np.ndarray:
+def _outlines_fourier(batch: np.ndarray, n_points: int, n_harmonics: int) -> np.ndarray:
     """Tentacle features of padded closed outlines: equal chords, turning angles, |DFT|."""
     q = points_to_angles(resample_closed(batch, n_points), closed=True)
-    return fourier_features(q, n_coeffs, normalize=True)
+    return fourier_features(q, n_harmonics, normalize=True)
 
 
-def _hull_features(geoms: Sequence[Geometry], n_points: int, n_coeffs: int) -> np.ndarray:
+def _hull_features(geoms: Sequence[Geometry], n_points: int, n_harmonics: int) -> np.ndarray:
     """The ``"hull"`` group of every object: scalars and hull-outline Fourier features."""
     n = len(geoms)
     hulls = np.empty(n, dtype=object)
@@ -313,7 +314,7 @@ def _hull_features(geoms: Sequence[Geometry], n_points: int, n_coeffs: int) -> n
         axis=1,
     )
     batch = _padded_rings(coords, index, n)
-    return np.concatenate([scalars, _outlines_fourier(batch, n_points, n_coeffs)], axis=1)
+    return np.concatenate([scalars, _outlines_fourier(batch, n_points, n_harmonics)], axis=1)
 
 
 def _outline_ring(g: Geometry) -> np.ndarray | None:
@@ -331,20 +332,23 @@ def _region_features(g: Geometry) -> np.ndarray:
     return np.array([p.solidity, p.extent, p.eccentricity, holes])
 
 
-def feature_names(descriptors: Sequence[str] = ("hull",), n_coeffs: int = 8) -> list[str]:
-    """Names of the columns of :func:`object_features`.
+def feature_names(
+    descriptors: Sequence[str] = ("hull",), n_harmonics: int = 8, *, n_coeffs: Any = UNSET
+) -> list[str]:
+    """Names of the columns of :func:`object_features` (``n_coeffs``: deprecated alias).
 
     Examples
     --------
-    >>> feature_names(("hull",), n_coeffs=2)
+    >>> feature_names(("hull",), n_harmonics=2)
     ['rectangularity', 'aspect', 'circularity', 'circle_fill', 'pixel_scale', 'hull_f1', 'hull_f2']
     """
+    n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs, default=8)
     names: list[str] = []
     for group in descriptors:
         if group == "hull":
-            names += [*_HULL_SCALARS, *(f"hull_f{k}" for k in range(1, n_coeffs + 1))]
+            names += [*_HULL_SCALARS, *(f"hull_f{k}" for k in range(1, n_harmonics + 1))]
         elif group == "outline":
-            names += [f"outline_f{k}" for k in range(1, n_coeffs + 1)]
+            names += [f"outline_f{k}" for k in range(1, n_harmonics + 1)]
         elif group == "region":
             names += list(_REGION_SCALARS)
         else:
@@ -357,7 +361,8 @@ def object_features(
     descriptors: Sequence[str] = ("hull",),
     *,
     n_points: int = 64,
-    n_coeffs: int = 8,
+    n_harmonics: int = 8,
+    n_coeffs: Any = UNSET,
 ) -> np.ndarray:
     """Feature vector of one measured object.
 
@@ -369,8 +374,10 @@ def object_features(
         Groups to compute, in this order (see the module docstring).
     n_points : int, default=64
         Chords of the walk around an outline.
-    n_coeffs : int, default=8
+    n_harmonics : int, default=8
         Fourier features kept per outline.
+    n_coeffs : int, optional
+        Deprecated alias of ``n_harmonics``.
 
     Returns
     -------
@@ -383,7 +390,8 @@ def object_features(
     >>> f.shape, [round(float(v), 3) for v in f[:3]]
     ((13,), [1.0, 1.0, 0.785])
     """
-    return features_matrix([g], descriptors, n_points=n_points, n_coeffs=n_coeffs)[0]
+    n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs, default=8)
+    return features_matrix([g], descriptors, n_points=n_points, n_harmonics=n_harmonics)[0]
 
 
 def features_matrix(
@@ -391,28 +399,32 @@ def features_matrix(
     descriptors: Sequence[str] = ("hull",),
     *,
     n_points: int = 64,
-    n_coeffs: int = 8,
+    n_harmonics: int = 8,
+    n_coeffs: Any = UNSET,
 ) -> np.ndarray:
     """:func:`object_features` of several objects, computed in batches.
+
+    ``n_coeffs`` is a deprecated alias of ``n_harmonics``.
 
     Returns
     -------
     features : ndarray of shape (n_objects, n_features)
     """
+    n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs, default=8)
     n = len(geoms)
     parts = []
     for group in descriptors:
         if group == "hull":
-            parts.append(_hull_features(geoms, n_points, n_coeffs))
+            parts.append(_hull_features(geoms, n_points, n_harmonics))
         elif group == "outline":
             found = [(i, r) for i, g in enumerate(geoms) if (r := _outline_ring(g)) is not None]
-            block = np.zeros((n, n_coeffs))
+            block = np.zeros((n, n_harmonics))
             if found:
                 ok = [i for i, _ in found]
                 rings = [r for _, r in found]
                 index = np.repeat(np.arange(len(rings)), [len(r) for r in rings])
                 batch = _padded_rings(np.concatenate(rings), index, len(rings))
-                block[ok] = _outlines_fourier(batch, n_points, n_coeffs)
+                block[ok] = _outlines_fourier(batch, n_points, n_harmonics)
             parts.append(block)
         elif group == "region":
             parts.append(np.array([_region_features(g) for g in geoms]).reshape(n, -1))

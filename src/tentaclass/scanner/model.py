@@ -22,6 +22,7 @@ from sklearn.exceptions import NotFittedError
 from sklearn.neighbors import KNeighborsClassifier
 from sklearn.utils.validation import check_is_fitted
 
+from .._deprecation import DEPRECATED, renamed_param
 from .._thesis_data import scanner_training_grids
 from .._validation import as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
@@ -66,8 +67,10 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         or holes.
     n_points : int, default=64
         Chords of the walk around an outline.
-    n_coeffs : int, default=4
+    n_harmonics : int, default=4
         Fourier features per outline.
+    n_coeffs : int, optional
+        Deprecated alias of ``n_harmonics``.
 
     Attributes
     ----------
@@ -101,11 +104,13 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         *,
         descriptors: Sequence[str] = ("hull",),
         n_points: int = 64,
-        n_coeffs: int = 4,
+        n_harmonics: int = 4,
+        n_coeffs: Any = DEPRECATED,
     ):
         self.classifier = classifier
         self.descriptors = descriptors
         self.n_points = n_points
+        self.n_harmonics = n_harmonics
         self.n_coeffs = n_coeffs
 
     # -- parameters --------------------------------------------------------------------------
@@ -118,10 +123,11 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
             if d not in DESCRIPTOR_GROUPS:
                 raise InputError(f"descriptors must be among {list(DESCRIPTOR_GROUPS)}, got {d!r}")
         n_points = check_positive_int(self.n_points, "n_points", minimum=8)
-        n_coeffs = check_positive_int(self.n_coeffs, "n_coeffs")
-        if n_coeffs > n_points // 2:
-            raise InputError(f"n_coeffs must be at most n_points // 2 = {n_points // 2}")
-        return desc, n_points, n_coeffs
+        n_harmonics = renamed_param(self, "n_harmonics", "n_coeffs", default=4)
+        n_harmonics = check_positive_int(n_harmonics, "n_harmonics")
+        if n_harmonics > n_points // 2:
+            raise InputError(f"n_harmonics must be at most n_points // 2 = {n_points // 2}")
+        return desc, n_points, n_harmonics
 
     def _make_classifier(self) -> Any:
         return PNNClassifier(spread=0.1) if self.classifier is None else clone(self.classifier)
@@ -129,10 +135,10 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
     # -- features ----------------------------------------------------------------------------
     def features(self, geometries: Sequence[Geometry]) -> np.ndarray:
         """Descriptor matrix of measured objects (see :func:`.descriptors.measure`)."""
-        desc, n_points, n_coeffs = self._check_params()
+        desc, n_points, n_harmonics = self._check_params()
         if not geometries:
-            return np.empty((0, len(feature_names(desc, n_coeffs))))
-        return features_matrix(geometries, desc, n_points=n_points, n_coeffs=n_coeffs)
+            return np.empty((0, len(feature_names(desc, n_harmonics))))
+        return features_matrix(geometries, desc, n_points=n_points, n_harmonics=n_harmonics)
 
     def transform(self, grids: Any) -> np.ndarray:
         """Descriptors of each grid's object.
@@ -168,7 +174,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         return self._fit_features(self.features(geoms), labels, sizes)
 
     def _fit_features(self, X: np.ndarray, labels: Any, sizes: np.ndarray) -> ScannerModel:
-        desc, _, n_coeffs = self._check_params()
+        desc, _, n_harmonics = self._check_params()
         y = np.asarray(labels)
         if y.ndim != 1 or y.shape[0] != X.shape[0]:
             raise InputError(
@@ -183,7 +189,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         self.features_ = X
         self.labels_ = y
         self.sizes_ = sizes
-        self.feature_names_ = feature_names(desc, n_coeffs)
+        self.feature_names_ = feature_names(desc, n_harmonics)
         self.n_features_in_ = X.shape[1]
         return self
 
@@ -358,12 +364,12 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
                 clf,
                 descriptors=tuple(meta["descriptors"]),
                 n_points=meta["n_points"],
-                n_coeffs=meta["n_coeffs"],
+                n_harmonics=meta["n_coeffs"],
             )
-            desc, _, n_coeffs = model._check_params()
+            desc, _, n_harmonics = model._check_params()
         except (KeyError, TypeError, InputError) as exc:
             raise bad(f"invalid settings ({exc})") from exc
-        names = feature_names(desc, n_coeffs)
+        names = feature_names(desc, n_harmonics)
         if meta.get("feature_names") != names or X.shape[1] != len(names):
             raise bad("feature columns do not match the descriptor settings")
         if sorted(set(y.tolist())) != meta.get("classes"):

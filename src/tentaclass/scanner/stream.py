@@ -33,7 +33,7 @@ from ..errors import InputError
 from . import _segment as seg
 from .defects import DefectSettings
 from .descriptors import measure
-from .inspection import NominalSize, _check_options, inspect_masks
+from .inspection import NominalSize, _check_options, _placement, _record, inspect_masks
 from .model import ScannerModel
 from .records import Defect, Inspection, ScannedObject
 from .threshold import Threshold, belt_levels, check_options, choose_threshold
@@ -573,24 +573,7 @@ class LineScanner:
         cols = np.nonzero(mask.any(axis=0))[0]
         mask = mask[:, cols[0] : cols[-1] + 1]
         left += int(cols[0])
-        g = measure(mask)
-        rr, cc = np.nonzero(mask)
-        bbox = (top, left, top + mask.shape[0], left + mask.shape[1])
-        centroid = (round(float(rr.mean()) + top, 6), round(float(cc.mean()) + left, 6))
+        bbox, centroid = _placement(mask, top, left)
         note = f"taller than max_height={self.max_height} rows: cut at row {bbox[2] - 1}"
         d = Defect("too_tall", 0, bbox, centroid, 0.0, note)
-        return Inspection(
-            label=None,
-            confidence=0.0,
-            bbox=bbox,
-            area=g.area,
-            centroid=centroid,
-            orientation=g.orientation,
-            length=g.length,
-            width=g.width,
-            holes=0,
-            hole_area=0,
-            defects=(d,),
-            accept=False,
-            reasons=(note,),
-        )
+        return _record(measure(mask), None, 0.0, bbox, centroid, [d])

@@ -375,7 +375,7 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
             ln = (req.link_length if req.link_length is not None else 1.0 / req.links) * per
         w = wrap(
             outline, req.links, ln, start=req.start, direction=req.direction, mode=req.mode,
-            offset=offset, noise=req.noise, seed=req.seed,
+            offset=offset, noise=req.noise, random_state=req.seed,
         )  # fmt: skip
         q = np.asarray(w.angles)
         out = {

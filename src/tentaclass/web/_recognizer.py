@@ -7,10 +7,12 @@ import re
 import threading
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from .. import FourierClassifier, points_to_angles, resample_closed, save_model
+from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from ..datasets import drawn_shapes
 from ..errors import InputError
@@ -114,21 +116,30 @@ class Recognizer:
         Where taught shapes and the model are kept; None keeps them in memory.
     n_per_class : int, default=40
         Drawn strokes per built-in class to learn from.
-    seed : int, default=0
+    random_state : int, default=0
         Seed of those strokes.
+    seed : int, optional
+        Deprecated alias of ``random_state``.
 
     Examples
     --------
     >>> from tentaclass.datasets import drawn_shapes
     >>> r = Recognizer(n_per_class=10)
-    >>> r.classify_stroke(drawn_shapes(1, classes=("star",), seed=5).strokes[0]).label
+    >>> r.classify_stroke(drawn_shapes(1, classes=("star",), random_state=5).strokes[0]).label
     'star'
     """
 
-    def __init__(self, data_dir: str | Path | None = None, n_per_class: int = 40, seed: int = 0):
+    def __init__(
+        self,
+        data_dir: str | Path | None = None,
+        n_per_class: int = 40,
+        random_state: int = 0,
+        seed: Any = UNSET,
+    ):
         self.data_dir = None if data_dir is None else Path(data_dir)
         self._lock = threading.RLock()
-        base = drawn_shapes(n_per_class, seed=seed)
+        random_state = renamed("random_state", random_state, "seed", seed, default=0)
+        base = drawn_shapes(n_per_class, random_state=random_state)
         self._base_X = np.array(
             [outline_angles(from_stroke(s, OUTLINE_POINTS)) for s in base.strokes]
         )

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 import shapely
@@ -11,6 +11,7 @@ from scipy.spatial import ConvexHull
 from scipy.spatial.distance import pdist
 
 from .. import _dask
+from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
@@ -172,8 +173,9 @@ def wrap_many(
     offset: ArrayLike = 0.0,
     mode: str = "taut",
     noise: float = 0.0,
-    seed: int | np.random.Generator | None = None,
+    random_state: int | np.random.Generator | None = None,
     thickness: float = 0.0,
+    seed: Any = UNSET,
 ) -> WrapBatch:
     """Many wraps at once: one outline with many start points, or many outlines.
 
@@ -182,9 +184,11 @@ def wrap_many(
     outlines : array_like of shape (n_points, 2), or a sequence of them
         One outline (the batch runs over ``starts``, ``link_length`` and
         ``offset``, broadcast together), or one outline per wrap.
-    n_links, link_length, starts, direction, offset, mode, noise, seed, thickness
+    n_links, link_length, starts, direction, offset, mode, noise, random_state, thickness
         As in :func:`wrap`; ``link_length``, ``starts`` and ``offset`` may be
         1-D arrays (one value per wrap).
+    seed : int or numpy.random.Generator, optional
+        Deprecated alias of ``random_state``.
 
     Returns
     -------
@@ -199,6 +203,7 @@ def wrap_many(
     >>> b.angles.shape, bool(b.complete.all())
     ((100, 16), True)
     """
+    seed = renamed("random_state", random_state, "seed", seed)
     n = check_positive_int(n_links, "n_links")
     if n > MAX_LINKS:
         raise InputError(f"n_links must be at most {MAX_LINKS:,}, got {n:,}")
@@ -327,7 +332,7 @@ def _finish(
             rng = np.random.default_rng(seed)
         except (TypeError, ValueError):
             raise InputError(
-                f"seed must be None, an integer >= 0 or a numpy Generator, got {seed!r}"
+                f"random_state must be None, an integer >= 0 or a numpy Generator, got {seed!r}"
             ) from None
         angles = angles + rng.normal(0.0, noise, angles.shape)
     batch = WrapBatch(
@@ -357,8 +362,9 @@ def wrap(
     offset: float = 0.0,
     mode: str = "taut",
     noise: float = 0.0,
-    seed: int | np.random.Generator | None = None,
+    random_state: int | np.random.Generator | None = None,
     thickness: float = 0.0,
+    seed: Any = UNSET,
 ) -> Wrap:
     """Joint angles of a chain of ``n_links`` equal links wrapped around an object.
 
@@ -387,12 +393,14 @@ def wrap(
     noise : float, default=0.0
         Standard deviation (radians) of Gaussian joint-sensor noise added to the
         angles; ``joints`` stay noise-free.
-    seed : int or numpy.random.Generator, optional
+    random_state : int or numpy.random.Generator, optional
         Makes the noise reproducible.
     thickness : float, default=0.0
         Chain thickness: lap ``k`` lies on the support offset outward by
         ``k * thickness`` (shapely buffer, round joins). 0: later laps lie on the
         first lap's support.
+    seed : int or numpy.random.Generator, optional
+        Deprecated alias of ``random_state``.
 
     Returns
     -------
@@ -452,6 +460,7 @@ def wrap(
     """
     batch = wrap_many(
         outline, n_links, link_length, start, direction=direction, offset=offset, mode=mode,
-        noise=noise, seed=seed, thickness=thickness,
+        noise=noise, random_state=renamed("random_state", random_state, "seed", seed),
+        thickness=thickness,
     )  # fmt: skip
     return batch[0]
