@@ -27,7 +27,7 @@ class Surface:
     theta: FloatArray  # (N,) unwrapped edge directions, per curve
     dev: FloatArray  # (N,) how far each edge strays from the outline (inf off curve 0)
     vidx: np.ndarray  # taut: outline index of each hull vertex; hug: empty
-    n_laps: int  # laps the track provides (large when every lap uses curve 0)
+    n_laps: int  # laps the track provides (unbounded: the last curve repeats)
     scale: float  # largest extent of the outline
     diameter: float
     perimeter: float  # of curve 0
@@ -123,9 +123,8 @@ def _build(
             flags.append(np.full(len(ck), np.inf))
             total += float(ring.length)
             k += 1
-        n_laps = len(curves)
-    else:
-        n_laps = 1 << 30
+    # laps beyond the last curve built lie on it again: the track never ends
+    n_laps = 1 << 30
     pts = np.ascontiguousarray(np.concatenate(curves))
     off = np.cumsum([0] + [len(c) for c in curves]).astype(np.int64)
     theta = np.concatenate([_edge_theta(c) for c in curves])
