@@ -65,12 +65,17 @@ def object_violations(
 
 
 def crossing_pairs(
-    joints: np.ndarray, rel_tol: float = 1e-6, outline: np.ndarray | None = None
+    joints: np.ndarray,
+    rel_tol: float = 1e-6,
+    outline: np.ndarray | None = None,
+    rest: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Index pairs ``(i, j)``, ``i < j``, of links that cross each other.
 
     Returns the pairs crossing outside the object and those crossing inside it
     (within both links' caps; all crossings are outside if ``outline`` is None).
+    ``rest`` > 0 counts crossings within that distance outside the outline as
+    inside (the band in which the chain is taken to rest on the object).
     """
     scale = float(np.ptp(joints, axis=0).max())
     tol = rel_tol * max(scale, 1e-300)
@@ -101,21 +106,23 @@ def crossing_pairs(
     # the crossing point, on link j at s1 / (s1 - s2) from its start
     t = (s1 / (s1 - s2))[:, None]
     x = joints[j] + t * (joints[j + 1] - joints[j])
-    inner = shapely.Polygon(_ccw(np.asarray(outline, float))).buffer(-tol)
+    body = shapely.Polygon(_ccw(np.asarray(outline, float)))
+    inner = body.buffer(-tol) if rest <= 0 else body.buffer(rest)
     in_cap = shapely.contains(inner, shapely.points(x))
     pairs = np.stack([i, j], axis=1)
     return pairs[~in_cap], pairs[in_cap]
 
 
-def chain_problems(outline, w, rel_tol: float = 1e-6) -> dict:
+def chain_problems(outline, w, rel_tol: float = 1e-6, rest: float = 0.0) -> dict:
     """Everything wrong with one wrap ``w``: counts per kind (all 0 for a good wrap).
 
-    ``"in_cap"`` (crossings of two links inside the object) is reported, not a problem.
+    ``"in_cap"`` (crossings of two links inside the object) is reported, not a
+    problem; ``rest`` is in link lengths (see :func:`crossing_pairs`).
     """
     j = w.joints
     ln = w.link_length
     lengths = np.hypot(*np.diff(j, axis=0).T)
-    out, in_cap = crossing_pairs(j, rel_tol, outline)
+    out, in_cap = crossing_pairs(j, rel_tol, outline, rest * ln)
     return {
         "incomplete": int(not w.complete),
         "bad_length": int(np.sum(~np.isclose(lengths, ln, rtol=1e-9, atol=0))),
