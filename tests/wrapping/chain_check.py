@@ -69,6 +69,7 @@ def crossing_pairs(
     rel_tol: float = 1e-6,
     outline: np.ndarray | None = None,
     rest: float = 0.0,
+    region=None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Index pairs ``(i, j)``, ``i < j``, of links that cross each other.
 
@@ -76,6 +77,8 @@ def crossing_pairs(
     (within both links' caps; all crossings are outside if ``outline`` is None).
     ``rest`` > 0 counts crossings within that distance outside the outline as
     inside (the band in which the chain is taken to rest on the object).
+    ``region`` (a shapely polygon), if given, replaces the object as the
+    region within which crossings are counted apart.
     """
     scale = float(np.ptp(joints, axis=0).max())
     tol = rel_tol * max(scale, 1e-300)
@@ -106,23 +109,34 @@ def crossing_pairs(
     # the crossing point, on link j at s1 / (s1 - s2) from its start
     t = (s1 / (s1 - s2))[:, None]
     x = joints[j] + t * (joints[j + 1] - joints[j])
-    body = shapely.Polygon(_ccw(np.asarray(outline, float)))
+    body = shapely.Polygon(_ccw(np.asarray(outline, float))) if region is None else region
     inner = body.buffer(-tol) if rest <= 0 else body.buffer(rest)
     in_cap = shapely.contains(inner, shapely.points(x))
     pairs = np.stack([i, j], axis=1)
     return pairs[~in_cap], pairs[in_cap]
 
 
-def chain_problems(outline, w, rel_tol: float = 1e-6, rest: float = 0.0) -> dict:
+def support_region(outline: np.ndarray, mode: str, link_length: float):
+    """The region a chain's chords may cut: the convex hull (taut) or the closing
+    of the object by a disc of diameter one link (hug)."""
+    poly = shapely.Polygon(_ccw(np.asarray(outline, float)))
+    if mode == "taut":
+        return poly.convex_hull
+    r = link_length / 2
+    return shapely.union(poly.buffer(r, quad_segs=8).buffer(-r, quad_segs=8), poly)
+
+
+def chain_problems(outline, w, rel_tol: float = 1e-6, rest: float = 0.0, region=None) -> dict:
     """Everything wrong with one wrap ``w``: counts per kind (all 0 for a good wrap).
 
     ``"in_cap"`` (crossings of two links inside the object) is reported, not a
-    problem; ``rest`` is in link lengths (see :func:`crossing_pairs`).
+    problem; ``rest`` is in link lengths, ``region`` a shapely polygon (see
+    :func:`crossing_pairs`).
     """
     j = w.joints
     ln = w.link_length
     lengths = np.hypot(*np.diff(j, axis=0).T)
-    out, in_cap = crossing_pairs(j, rel_tol, outline, rest * ln)
+    out, in_cap = crossing_pairs(j, rel_tol, outline, rest * ln, region)
     return {
         "incomplete": int(not w.complete),
         "bad_length": int(np.sum(~np.isclose(lengths, ln, rtol=1e-9, atol=0))),

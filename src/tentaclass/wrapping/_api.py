@@ -378,7 +378,8 @@ def wrap(
         ``-2*pi`` per lap.
     offset : float, default=0.0
         Distance of the base from the support (the thesis's epsilon), along the
-        inward normal at the start point: the first ``ceil(offset / l)`` links
+        inward normal at the start point (turned away from the object where
+        that line would pass through it): the first ``ceil(offset / l)`` links
         reach straight towards the start point, then the chain wraps.
     mode : {"taut", "hug"}, default="taut"
         Support of the first lap: ``"taut"`` the convex hull (a chain pulled
@@ -403,8 +404,9 @@ def wrap(
     InputError
         Bad outline (NaN, fewer than 3 distinct points, zero area,
         self-intersection), ``link_length`` <= 0 or longer than the object's
-        diameter, ``n_links`` < 1, ``start`` outside [0, 1), unknown mode, an
-        ``offset`` whose approach would pass through the object.
+        diameter, ``n_links`` < 1 or above :data:`MAX_LINKS`, ``start`` outside
+        [0, 1), unknown mode, an ``offset`` longer than the chain, a
+        ``thickness`` larger than the object.
 
     Notes
     -----
@@ -418,10 +420,15 @@ def wrap(
     between its joints. Where the next chord would, the link instead rests on
     the vertex it passes that lies furthest clockwise seen from its joint (for
     a ccw walk: the tangent point), and its tip stays in the air beyond that
-    corner; the following link reaches down from there. A joint with no next
-    joint within one lap (a link longer than the space around it) ends the
-    chain: ``complete`` is False. Later laps lie on the support offset by
-    ``thickness`` per lap, joined to the previous lap at the start point.
+    corner; the following link reaches down from there. Every link is placed:
+    where the support offers no next joint (a link longer than the space
+    around it), the link folds in towards the object, turning clockwise from
+    nearly a half turn left of the previous link until it meets the object or
+    an earlier link, and the walk goes on from the support point nearest its
+    tip. Later laps lie on the support offset by ``thickness`` per lap, joined
+    to the previous lap at the start point. Where the straight approach
+    would pass through another part of the object, it turns (by up to 86
+    degrees either way) to the nearest direction that clears it.
 
     **Angles.** ``angles[i]`` is the turn at joint ``i`` from link ``i`` to link
     ``i + 1`` (``angles[0]`` from ``heading``), so that

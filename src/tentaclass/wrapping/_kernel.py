@@ -32,8 +32,6 @@ from ._geom import (
 __all__ = ["crosses", "locate", "walk", "walk_many"]
 
 STATUS_COMPLETE = 0
-STATUS_JAMMED = 1
-STATUS_EXHAUSTED = 2
 
 
 @nb.njit(cache=True)
