@@ -128,3 +128,17 @@ def test_any_wrap_places_every_link(
     found = chain_problems(outline, w)
     assert (found["incomplete"], found["bad_length"]) == (0, 0)
     assert len(w.angles) == n
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_single_taut_laps_never_cross(seed):
+    assert problems_over(THESIS + STARS, CROSSINGS, modes=("taut",), laps=(1,), seed=seed) == []
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="a later lap retraces the first lap's support with its joints elsewhere: over "
+    "concave stretches and dents its chords cross the first lap's in the air",
+)
+def test_later_laps_never_cross():
+    assert problems_over(THESIS + STARS, CROSSINGS, laps=(2, 3)) == []

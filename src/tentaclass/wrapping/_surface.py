@@ -114,10 +114,13 @@ def _build(
     curves, flags = [c0], [on0]
     per0 = float(np.sum(np.hypot(*(np.roll(c0, -1, axis=0) - c0).T)))
     if thickness > 0:
-        base = shapely.Polygon(c0)
+        base = shapely.make_valid(shapely.Polygon(c0)).buffer(0)
         total, k = 0.0, 1
         while total < arc_needed + per0 and k < 200:
-            ring = base.buffer(k * thickness, quad_segs=8).exterior
+            grown = base.buffer(k * thickness, quad_segs=8)
+            if grown.geom_type != "Polygon":  # a closing that touches itself
+                grown = max(grown.geoms, key=lambda g: g.area)
+            ring = grown.exterior
             ck = _clean_ring(np.asarray(ring.coords)[:-1])
             curves.append(ck)
             flags.append(np.full(len(ck), np.inf))
