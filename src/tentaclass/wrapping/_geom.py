@@ -130,6 +130,41 @@ def locate(points, curve):
 
 
 @nb.njit(cache=True)
+def _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, tip_on, angs, px, py, on, c):
+    """Add the places a link from ``a`` can rest on point ``p0`` or segment ``p0-p1``.
+
+    A link pivoting on ``a`` rests on ``p0`` within its reach (tip in the air
+    beyond it), or has its tip on the segment at distance ``ln``. Each
+    candidate's rotation from ``u`` goes to ``angs``, its tip to ``px, py``;
+    returns the new count.
+    """
+    vx, vy = x0 - ax, y0 - ay
+    d2 = vx * vx + vy * vy
+    if 1e-24 * ln * ln < d2 <= ln * ln:
+        r = np.sqrt(d2)
+        angs[c] = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
+        px[c], py[c] = ax + ln * vx / r, ay + ln * vy / r
+        c += 1
+    if not has_edge:
+        return c
+    dx, dy = x1 - x0, y1 - y0
+    A = dx * dx + dy * dy
+    B = 2.0 * (vx * dx + vy * dy)
+    C0 = d2 - ln * ln
+    disc = B * B - 4.0 * A * C0
+    if A > 0 and disc >= 0:
+        sq = np.sqrt(disc)
+        for t in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
+            if 0.0 <= t <= 1.0:
+                wx, wy = vx + t * dx, vy + t * dy
+                angs[c] = np.arctan2(ux * wy - uy * wx, ux * wx + uy * wy)
+                px[c], py[c] = ax + wx, ay + wy
+                on[c] = tip_on
+                c += 1
+    return c
+
+
+@nb.njit(cache=True)
 def free_direction(ax, ay, ux, uy, ln, obj, eps):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
@@ -145,28 +180,9 @@ def free_direction(ax, ay, ux, uy, ln, obj, eps):
     on = np.zeros(3 * m, np.bool_)
     c = 0
     for i in range(m):
-        vx, vy = obj[i, 0] - ax, obj[i, 1] - ay
-        d2 = vx * vx + vy * vy
-        if 1e-24 * ln * ln < d2 <= ln * ln:
-            r = np.sqrt(d2)
-            angs[c] = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
-            px[c], py[c] = ax + ln * vx / r, ay + ln * vy / r
-            c += 1
         i2 = i + 1 if i + 1 < m else 0
-        dx, dy = obj[i2, 0] - obj[i, 0], obj[i2, 1] - obj[i, 1]
-        A = dx * dx + dy * dy
-        B = 2.0 * (vx * dx + vy * dy)
-        C0 = d2 - ln * ln
-        disc = B * B - 4.0 * A * C0
-        if A > 0 and disc >= 0:
-            sq = np.sqrt(disc)
-            for t in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
-                if 0.0 <= t <= 1.0:
-                    wx, wy = vx + t * dx, vy + t * dy
-                    angs[c] = np.arctan2(ux * wy - uy * wx, ux * wx + uy * wy)
-                    px[c], py[c] = ax + wx, ay + wy
-                    on[c] = True
-                    c += 1
+        c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1],
+                             True, True, angs, px, py, on, c)  # fmt: skip
     order = np.argsort(-angs[:c])
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
@@ -266,29 +282,8 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
                 x0, y0 = joints[i, 0], joints[i, 1]
                 has_edge = i < last
                 x1, y1 = (joints[i + 1, 0], joints[i + 1, 1]) if has_edge else (x0, y0)
-            vx, vy = x0 - ax, y0 - ay
-            d2 = vx * vx + vy * vy
-            if 1e-24 * ln * ln < d2 <= ln * ln:
-                r = np.sqrt(d2)
-                angs[c] = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
-                px[c], py[c] = ax + ln * vx / r, ay + ln * vy / r
-                c += 1
-            if not has_edge:
-                continue
-            dx, dy = x1 - x0, y1 - y0
-            A = dx * dx + dy * dy
-            B = 2.0 * (vx * dx + vy * dy)
-            C0 = d2 - ln * ln
-            disc = B * B - 4.0 * A * C0
-            if A > 0 and disc >= 0:
-                sq = np.sqrt(disc)
-                for t in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
-                    if 0.0 <= t <= 1.0:
-                        wx, wy = vx + t * dx, vy + t * dy
-                        angs[c] = np.arctan2(ux * wy - uy * wx, ux * wx + uy * wy)
-                        px[c], py[c] = ax + wx, ay + wy
-                        on[c] = src == 0
-                        c += 1
+            c = _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, src == 0,
+                                 angs, px, py, on, c)  # fmt: skip
     # directions every 1/128 turn: the link free in the air
     r = np.hypot(ux, uy)
     for s in range(1, 65):
