@@ -179,6 +179,19 @@ def test_laps_grow_with_n_links():
         assert laps[-1] > 2
 
 
+@pytest.mark.parametrize("mode", ["taut", "hug"])
+def test_circle_laps_read_out_with_one_fixed_chain(mode):
+    # one chain of 64 unit links, the circle sized for 1.2-2 laps after a stand-off
+    rng = np.random.default_rng(3)
+    for target in np.linspace(1.2, 2.0, 9):
+        off = float(rng.uniform(0, 2))
+        r = (64 - off) / target / (2 * np.pi)
+        w = wrap(shapes.circle(r, 256), 64, 1.0, start=float(rng.uniform()), offset=off,
+                 direction=str(rng.choice(["ccw", "cw"])), mode=mode)  # fmt: skip
+        assert w.complete and w.laps == pytest.approx(target, abs=0.03)
+        assert w.closure_gap < 1.0  # the second lap passes within a link of the start
+
+
 def test_cw_is_the_mirror_image():
     outline = OUTLINES["L"]
     mirrored = shapes.polygon(outline * [-1, 1])

@@ -32,6 +32,8 @@ from ._geom import (
 __all__ = ["crosses", "locate", "walk", "walk_many"]
 
 STATUS_COMPLETE = 0
+#: Fraction of a link within which the approach's last joint lands on the start point.
+LANDING = 0.25
 
 
 @nb.njit(cache=True)
@@ -272,6 +274,12 @@ def walk(
     a_th = seg[4]
     a_on = seg[5] <= exact and not approach
     a_sup = seg[5] <= slack and not approach
+    # An approach joint that ends just above the start point (less than
+    # LANDING of a link) counts as resting on the support: the next link
+    # reaches down onto it, cutting the cap it spans, instead of floating.
+    land = LANDING * ln
+    if approach and np.hypot(base[0] - spt[0, 0], base[1] - spt[0, 1]) <= land:
+        a_sup = True
     ax, ay = px, py
     joints[0, 0], joints[0, 1] = ax, ay
     contact[0] = a_on and k == 0
@@ -317,6 +325,8 @@ def walk(
             continue
         k, j, xx, xy, x_th, x_dev = r[1], r[2], r[3], r[4], r[5], r[6]
         bridged = r[7] or not a_sup
+        if sk < 0 and a_sup and k >= 0:  # from a landing approach joint onto the lap
+            bridged = x_dev > slack
         overhang = False
         cross = False
         if check >= 2 and bridged:
@@ -440,6 +450,8 @@ def walk(
             px, py = xx, xy
             lap[i] = k
             x_sup = x_dev <= slack
+            if k < 0 and np.hypot(xx - spt[0, 0], xy - spt[0, 1]) <= land:
+                x_sup = True
             x_on = x_dev <= exact and k == 0
         phi[i] = _near(np.arctan2(xy - ay, xx - ax), 0.5 * (a_th + x_th))
         joints[i, 0], joints[i, 1] = xx, xy
