@@ -109,8 +109,11 @@ def crossing_pairs(
     # the crossing point, on link j at s1 / (s1 - s2) from its start
     t = (s1 / (s1 - s2))[:, None]
     x = joints[j] + t * (joints[j + 1] - joints[j])
-    body = shapely.Polygon(_ccw(np.asarray(outline, float))) if region is None else region
-    inner = body.buffer(-tol) if rest <= 0 else body.buffer(rest)
+    if region is not None:  # on the support's boundary counts as on the support
+        inner = region.buffer(max(rest, tol))
+    else:
+        body = shapely.Polygon(_ccw(np.asarray(outline, float)))
+        inner = body.buffer(-tol) if rest <= 0 else body.buffer(rest)
     in_cap = shapely.contains(inner, shapely.points(x))
     pairs = np.stack([i, j], axis=1)
     return pairs[~in_cap], pairs[in_cap]
