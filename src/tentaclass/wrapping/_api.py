@@ -70,7 +70,6 @@ def _run(
     starts: FloatArray,
     offsets: FloatArray,
     mirror: bool,
-    index: np.ndarray | None = None,
 ) -> dict:
     b = len(ls)
     c_count = len(surf.off) - 1
@@ -90,12 +89,14 @@ def _run(
     approach = offsets > 0
     bases = s0.copy()
     app_th = th0 + np.pi / 2
-    for q in np.flatnonzero(approach):
-        nin = _inward_normal(surf.curve(0), int(e0[q]), float(t0[q]))
-        bases[q] = s0[q] - offsets[q] * nin
-        a = np.arctan2(nin[1], nin[0])
-        app_th[q] = a + np.round((app_th[q] - a) / (2 * np.pi)) * 2 * np.pi
-    _check_approaches(surf, bases, s0, offsets, index, mirror)
+    turn = np.zeros(len(offsets))
+    rows = np.flatnonzero(approach)
+    if rows.size:
+        nin = np.array([_inward_normal(surf.curve(0), int(e0[q]), float(t0[q])) for q in rows])
+        turn[rows] = _free_approach(surf, s0[rows], nin, offsets[rows])
+        a = np.arctan2(nin[:, 1], nin[:, 0]) + turn[rows]
+        bases[rows] = s0[rows] - offsets[rows, None] * np.stack([np.cos(a), np.sin(a)], axis=1)
+        app_th[rows] = a + np.round((app_th[rows] - a) / (2 * np.pi)) * 2 * np.pi
     max_search = offsets + surf.max_perimeter + 2 * ls
     check = 3 if surf.mode == "hug" else 2
     eps = 1e-12 * surf.scale * surf.scale
@@ -106,46 +107,44 @@ def _run(
     )  # fmt: skip
     return {
         "joints": joints, "contact": contact, "lap": lap, "phi": phi, "status": status,
-        "placed": placed, "phi_v": phi_v, "start": s0,
+        "placed": placed, "phi_v": phi_v, "start": s0, "turn": turn,
     }  # fmt: skip
 
 
-def _check_approaches(
-    surf: Surface,
-    bases: FloatArray,
-    starts: FloatArray,
-    offsets: FloatArray,
-    index: np.ndarray | None,
-    mirror: bool,
-) -> None:
-    """Refuse a stand-off whose straight approach passes through the object.
+#: Approach directions tried, as turns away from the support's normal at the
+#: start point: the straight approach first, then ever wider on both sides.
+_TURNS = np.concatenate([[0.0], np.stack([d := np.linspace(0.05, 1.5, 30), -d], 1).ravel()])
 
-    The approach runs along the outward normal at the start point; on a
-    non-convex object a long one can start behind another part of it.
+
+def _free_approach(
+    surf: Surface, starts: FloatArray, inward: FloatArray, offsets: FloatArray
+) -> FloatArray:
+    """Turn of each approach away from the normal so that it stays outside the object.
+
+    The base stands ``offset`` from the start point along the outward normal;
+    where that straight approach would pass through another part of a
+    non-convex object, the approach turns (up to 86 degrees either way) to the
+    nearest direction that clears it. If none does, the straight one is kept and
+    the walk lets its links rest on the object where they meet it.
     """
-    rows = np.flatnonzero(offsets > 0)
-    if rows.size == 0:
-        return
-    paths = shapely.linestrings(np.stack([bases[rows], starts[rows]], axis=1))
     body = shapely.Polygon(surf.outline)
     shapely.prepare(body)
-    tol = 1e-9 * surf.scale  # the start point itself may sit a rounding error inside
-    meet = np.flatnonzero(shapely.relate_pattern(paths, body, "T********"))  # interiors
-    inter = shapely.intersection(paths[meet], body)
-    inside = np.flatnonzero(shapely.length(inter) > tol)
-    if inside.size == 0:
-        return
-    q = rows[meet[inside[0]]]
-    pieces = shapely.get_parts(inter[inside[0]])
-    pieces = pieces[shapely.length(pieces) > tol]
-    reach = float(shapely.distance(shapely.points(starts[q]), pieces).min())
-    x, y = starts[q] * ([-1.0, 1.0] if mirror else 1.0)
-    which = f" (wrap {int(index[q])})" if index is not None else ""
-    raise InputError(
-        f"offset {offsets[q]:g}{which}: the straight approach to the start point "
-        f"({x:.4g}, {y:.4g}) along its normal passes through the object after "
-        f"{reach:.4g}; use a smaller offset or another start point"
-    )
+    turn = np.zeros(len(starts))
+    todo = np.arange(len(starts))
+    base_angle = np.arctan2(inward[:, 1], inward[:, 0])
+    tol = 1e-9 * surf.scale
+    for t in _TURNS:
+        a = base_angle[todo] + t
+        ends = starts[todo] - offsets[todo, None] * np.stack([np.cos(a), np.sin(a)], axis=1)
+        paths = shapely.linestrings(np.stack([ends, starts[todo]], axis=1))
+        meet = shapely.relate_pattern(paths, body, "T********")  # interiors meet
+        if meet.any():
+            meet[meet] = shapely.length(shapely.intersection(paths[meet], body)) > tol
+        turn[todo[~meet]] = t
+        todo = todo[meet]
+        if todo.size == 0:
+            break
+    return turn
 
 
 def _geom_locate(points, curve):
@@ -253,6 +252,7 @@ def wrap_many(
         "placed": np.zeros(b, np.int64),
         "phi_v": np.zeros(b),
         "start": np.zeros((b, 2)),
+        "turn": np.zeros(b),
     }
     on_start = np.zeros(b, bool)
     scales = np.zeros(b)
@@ -273,7 +273,7 @@ def wrap_many(
                 f"{surf.diameter:g}: a link must fit between two points of the outline "
                 f"(use link_length <= {surf.diameter:g})"
             )
-        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror, rows if b > 1 else None)
+        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror)
         for key, val in res.items():
             out[key][rows] = val
         e0, _, _ = _geom_locate(res["start"], np.ascontiguousarray(surf.curve(0)))
@@ -311,7 +311,7 @@ def _finish(
     # Laps count from the direction of the support at the start point: the chord
     # arriving there (closed arrays sum to 2 pi) or, after an approach along the
     # inward normal, the edge direction (a quarter turn right of the approach).
-    ref = np.where(off > 0, phi[:, 0] - np.pi / 2, out["phi_v"])
+    ref = np.where(off > 0, phi[:, 0] - out["turn"] - np.pi / 2, out["phi_v"])
     laps = np.where(placed >= offset_links, (last - ref) / (2 * np.pi), 0.0)
     has = (lap >= 1).any(axis=1)
     first = np.argmax(lap >= 1, axis=1)
@@ -384,7 +384,8 @@ def wrap(
         ``-2*pi`` per lap.
     offset : float, default=0.0
         Distance of the base from the support (the thesis's epsilon), along the
-        inward normal at the start point: the first ``ceil(offset / l)`` links
+        inward normal at the start point (turned away from the object where
+        that line would pass through it): the first ``ceil(offset / l)`` links
         reach straight towards the start point, then the chain wraps.
     mode : {"taut", "hug"}, default="taut"
         Support of the first lap: ``"taut"`` the convex hull (a chain pulled
@@ -411,8 +412,9 @@ def wrap(
     InputError
         Bad outline (NaN, fewer than 3 distinct points, zero area,
         self-intersection), ``link_length`` <= 0 or longer than the object's
-        diameter, ``n_links`` < 1, ``start`` outside [0, 1), unknown mode, an
-        ``offset`` whose approach would pass through the object.
+        diameter, ``n_links`` < 1 or above :data:`MAX_LINKS`, ``start`` outside
+        [0, 1), unknown mode, an ``offset`` longer than the chain, a
+        ``thickness`` larger than the object.
 
     Notes
     -----
@@ -426,10 +428,15 @@ def wrap(
     between its joints. Where the next chord would, the link instead rests on
     the vertex it passes that lies furthest clockwise seen from its joint (for
     a ccw walk: the tangent point), and its tip stays in the air beyond that
-    corner; the following link reaches down from there. A joint with no next
-    joint within one lap (a link longer than the space around it) ends the
-    chain: ``complete`` is False. Later laps lie on the support offset by
-    ``thickness`` per lap, joined to the previous lap at the start point.
+    corner; the following link reaches down from there. Every link is placed:
+    where the support offers no next joint (a link longer than the space
+    around it), the link folds in towards the object, turning clockwise from
+    nearly a half turn left of the previous link until it meets the object or
+    an earlier link, and the walk goes on from the support point nearest its
+    tip. Later laps lie on the support offset by ``thickness`` per lap, joined
+    to the previous lap at the start point. Where the straight approach
+    would pass through another part of the object, it turns (by up to 86
+    degrees either way) to the nearest direction that clears it.
 
     **Angles.** ``angles[i]`` is the turn at joint ``i`` from link ``i`` to link
     ``i + 1`` (``angles[0]`` from ``heading``), so that

@@ -19,6 +19,19 @@ def _near(phi, ref):
     return ref + ((phi - ref + np.pi) % TWO_PI) - np.pi
 
 
+@nb.njit(cache=True, inline="always")
+def _sides(ax, ay, bx, by, px, py, qx, qy):
+    """Signed areas locating ``p`` and ``q`` left (> 0) or right of the line a-b."""
+    dx, dy = bx - ax, by - ay
+    return dx * (py - ay) - dy * (px - ax), dx * (qy - ay) - dy * (qx - ax)
+
+
+@nb.njit(cache=True, inline="always")
+def _apart(o1, o2, eps):
+    """The two signed areas lie clearly on opposite sides."""
+    return (o1 > eps and o2 < -eps) or (o1 < -eps and o2 > eps)
+
+
 @nb.njit(cache=True)
 def crosses(ax, ay, bx, by, obj, eps):
     """True if segment a-b properly crosses an edge of the closed polygon ``obj``.
@@ -117,6 +130,41 @@ def locate(points, curve):
 
 
 @nb.njit(cache=True)
+def _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, tip_on, angs, px, py, on, c):
+    """Add the places a link from ``a`` can rest on point ``p0`` or segment ``p0-p1``.
+
+    A link pivoting on ``a`` rests on ``p0`` within its reach (tip in the air
+    beyond it), or has its tip on the segment at distance ``ln``. Each
+    candidate's rotation from ``u`` goes to ``angs``, its tip to ``px, py``;
+    returns the new count.
+    """
+    vx, vy = x0 - ax, y0 - ay
+    d2 = vx * vx + vy * vy
+    if 1e-24 * ln * ln < d2 <= ln * ln:
+        r = np.sqrt(d2)
+        angs[c] = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
+        px[c], py[c] = ax + ln * vx / r, ay + ln * vy / r
+        c += 1
+    if not has_edge:
+        return c
+    dx, dy = x1 - x0, y1 - y0
+    A = dx * dx + dy * dy
+    B = 2.0 * (vx * dx + vy * dy)
+    C0 = d2 - ln * ln
+    disc = B * B - 4.0 * A * C0
+    if A > 0 and disc >= 0:
+        sq = np.sqrt(disc)
+        for t in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
+            if 0.0 <= t <= 1.0:
+                wx, wy = vx + t * dx, vy + t * dy
+                angs[c] = np.arctan2(ux * wy - uy * wx, ux * wx + uy * wy)
+                px[c], py[c] = ax + wx, ay + wy
+                on[c] = tip_on
+                c += 1
+    return c
+
+
+@nb.njit(cache=True)
 def free_direction(ax, ay, ux, uy, ln, obj, eps):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
@@ -132,32 +180,123 @@ def free_direction(ax, ay, ux, uy, ln, obj, eps):
     on = np.zeros(3 * m, np.bool_)
     c = 0
     for i in range(m):
-        vx, vy = obj[i, 0] - ax, obj[i, 1] - ay
-        d2 = vx * vx + vy * vy
-        if 1e-24 * ln * ln < d2 <= ln * ln:
-            r = np.sqrt(d2)
-            angs[c] = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
-            px[c], py[c] = ax + ln * vx / r, ay + ln * vy / r
-            c += 1
         i2 = i + 1 if i + 1 < m else 0
-        dx, dy = obj[i2, 0] - obj[i, 0], obj[i2, 1] - obj[i, 1]
-        A = dx * dx + dy * dy
-        B = 2.0 * (vx * dx + vy * dy)
-        C0 = d2 - ln * ln
-        disc = B * B - 4.0 * A * C0
-        if A > 0 and disc >= 0:
-            sq = np.sqrt(disc)
-            for t in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
-                if 0.0 <= t <= 1.0:
-                    wx, wy = vx + t * dx, vy + t * dy
-                    angs[c] = np.arctan2(ux * wy - uy * wx, ux * wx + uy * wy)
-                    px[c], py[c] = ax + wx, ay + wy
-                    on[c] = True
-                    c += 1
+        c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1],
+                             True, True, angs, px, py, on, c)  # fmt: skip
     order = np.argsort(-angs[:c])
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
             continue
         if crossing_edge(ax, ay, px[t], py[t], obj, eps) < 0:
+            return True, px[t], py[t], on[t]
+    return False, ax, ay, False
+
+
+@nb.njit(cache=True)
+def crossing_link(ax, ay, bx, by, joints, last, eps):
+    """First link ``t < last`` (``joints[t] -> joints[t + 1]``) that a-b crosses, or -1.
+
+    A crossing passes from one side of the link to the other: touching it,
+    ending on it and lying along it do not count.
+    """
+    lox, hix = min(ax, bx), max(ax, bx)
+    loy, hiy = min(ay, by), max(ay, by)
+    for t in range(last):
+        px, py = joints[t, 0], joints[t, 1]
+        qx, qy = joints[t + 1, 0], joints[t + 1, 1]
+        if (px < lox and qx < lox) or (px > hix and qx > hix):
+            continue
+        if (py < loy and qy < loy) or (py > hiy and qy > hiy):
+            continue
+        o1, o2 = _sides(ax, ay, bx, by, px, py, qx, qy)
+        if _apart(o1, o2, eps):
+            o3, o4 = _sides(px, py, qx, qy, ax, ay, bx, by)
+            if _apart(o3, o4, eps):
+                return t
+    return -1
+
+
+@nb.njit(cache=True)
+def inside(x, y, obj, eps):
+    """True if the point lies inside the polygon ``obj`` further than ``eps`` from its outline."""
+    m = obj.shape[0]
+    wn = False
+    dmin = np.inf
+    for i in range(m):
+        i2 = i + 1 if i + 1 < m else 0
+        x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
+        if (y0 > y) != (y1 > y):
+            if x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+                wn = not wn
+        dx, dy = x1 - x0, y1 - y0
+        A = dx * dx + dy * dy
+        t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
+        t = min(max(t, 0.0), 1.0)
+        d = (x0 + t * dx - x) ** 2 + (y0 + t * dy - y) ** 2
+        dmin = min(dmin, d)
+    return wn and dmin > eps * eps
+
+
+@nb.njit(cache=True)
+def blocked(ax, ay, bx, by, obj, eps, joints, last):
+    """True if segment a-b enters the object or crosses one of the first ``last`` links.
+
+    No cap allowance: a segment between two points of the outline through the
+    object's inside is blocked.
+    """
+    if crossing_edge(ax, ay, bx, by, obj, eps) >= 0:
+        return True
+    if crossing_link(ax, ay, bx, by, joints, last, eps) >= 0:
+        return True
+    return inside(0.5 * (ax + bx), 0.5 * (ay + by), obj, np.sqrt(eps))
+
+
+@nb.njit(cache=True)
+def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
+    """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
+
+    The link pivots on ``a`` and stops where it first rests on the object or on
+    one of the first ``last`` links of the chain; candidates are tried from the
+    least rotation on: outline vertices and earlier joints within reach (the link
+    rests on them, tip in the air), and the points of the outline and of the
+    earlier links at distance ``ln`` (the tip rests there). Returns
+    ``(found, tip_x, tip_y, tip_on_outline)``; ``found`` is False when every
+    direction up to a half turn clockwise is blocked.
+    """
+    m = obj.shape[0]
+    size = 3 * m + 3 * (last + 1) + 65
+    angs = np.empty(size)
+    px = np.empty(size)
+    py = np.empty(size)
+    on = np.zeros(size, np.bool_)
+    c = 0
+    for src in range(2):
+        cnt = m if src == 0 else last + 1
+        for i in range(cnt):
+            if src == 0:
+                x0, y0 = obj[i, 0], obj[i, 1]
+                i2 = i + 1 if i + 1 < m else 0
+                x1, y1 = obj[i2, 0], obj[i2, 1]
+                has_edge = True
+            else:
+                x0, y0 = joints[i, 0], joints[i, 1]
+                has_edge = i < last
+                x1, y1 = (joints[i + 1, 0], joints[i + 1, 1]) if has_edge else (x0, y0)
+            c = _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, src == 0,
+                                 angs, px, py, on, c)  # fmt: skip
+    # directions every 1/128 turn: the link free in the air
+    r = np.hypot(ux, uy)
+    for s in range(1, 65):
+        ang = -s * np.pi / 64 + 2e-9
+        ca, sa = np.cos(ang), np.sin(ang)
+        angs[c] = ang
+        px[c] = ax + ln * (ca * ux - sa * uy) / r
+        py[c] = ay + ln * (sa * ux + ca * uy) / r
+        c += 1
+    order = np.argsort(-angs[:c])
+    for t in order:
+        if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
+            continue
+        if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last):
             return True, px[t], py[t], on[t]
     return False, ax, ay, False

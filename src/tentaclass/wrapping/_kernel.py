@@ -25,14 +25,15 @@ from ._geom import (
     crossing_edge,
     crossing_edge_range,
     free_direction,
+    free_direction_links,
     locate,
 )
 
 __all__ = ["crosses", "locate", "walk", "walk_many"]
 
 STATUS_COMPLETE = 0
-STATUS_JAMMED = 1
-STATUS_EXHAUSTED = 2
+#: Fraction of a link within which the approach's last joint lands on the start point.
+LANDING = 0.25
 
 
 @nb.njit(cache=True)
@@ -168,6 +169,60 @@ def _search(
 
 
 @nb.njit(cache=True)
+def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
+    """Where link ``i`` goes when the track offers it nothing: a chain always ends somewhere.
+
+    The link folds in towards the object from nearly a half turn left of the
+    previous link and stops at the first thing it meets (the object or an
+    earlier link; tip in the air); wedged, it folds back onto the previous
+    link. Returns the tip.
+    """
+    ph = phi[i - 1]
+    last = max(i - 2, 0)
+    ok, xx, xy, _ = free_direction_links(
+        ax, ay, np.cos(ph + 0.99 * np.pi), np.sin(ph + 0.99 * np.pi), ln, obj, eps, joints, last
+    )
+    if ok:
+        return xx, xy
+    if i >= 2:
+        return joints[i - 2, 0], joints[i - 2, 1]
+    return ax - ln * np.cos(ph), ay - ln * np.sin(ph)
+
+
+@nb.njit(cache=True)
+def _relocate(x, y, k, j, px, py, pts, off, es):
+    """Move the cursor ``(k, j, p)`` forward to the point of its lap curve nearest to ``(x, y)``.
+
+    The cursor never moves back: if the nearest point lies behind it, it stays.
+    """
+    if k < 0:
+        return k, j, px, py
+    n_curves = off.shape[0] - 1
+    c = min(k, n_curves - 1)
+    o = off[c]
+    m = off[c + 1] - o
+    best = np.inf
+    bj, bx, by = j, px, py
+    for e in range(m):
+        i0 = o + e
+        i1 = o + (e + 1) % m
+        x0, y0 = pts[i0, 0], pts[i0, 1]
+        dx, dy = pts[i1, 0] - x0, pts[i1, 1] - y0
+        A = dx * dx + dy * dy
+        t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
+        t = min(max(t, 0.0), 1.0)
+        cx, cy = x0 + t * dx, y0 + t * dy
+        d = (cx - x) ** 2 + (cy - y) ** 2
+        if d < best:
+            best = d
+            bj = (e - es[c]) % m
+            bx, by = cx, cy
+    if bj > j:
+        return k, bj, bx, by
+    return k, j, px, py
+
+
+@nb.njit(cache=True)
 def walk(
     n,
     ln,
@@ -219,6 +274,12 @@ def walk(
     a_th = seg[4]
     a_on = seg[5] <= exact and not approach
     a_sup = seg[5] <= slack and not approach
+    # An approach joint that ends just above the start point (less than
+    # LANDING of a link) counts as resting on the support: the next link
+    # reaches down onto it, cutting the cap it spans, instead of floating.
+    land = LANDING * ln
+    if approach and np.hypot(base[0] - spt[0, 0], base[1] - spt[0, 1]) <= land:
+        a_sup = True
     ax, ay = px, py
     joints[0, 0], joints[0, 1] = ax, ay
     contact[0] = a_on and k == 0
@@ -252,10 +313,20 @@ def walk(
             n_laps,
         )
         if r[0] != 0:
-            status = STATUS_JAMMED if r[0] == 1 else STATUS_EXHAUSTED
-            break
+            # nothing of the track at a link's length ahead: the link folds in
+            xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
+            phi[i] = _near(np.arctan2(xy - ay, xx - ax), phi[i - 1])
+            joints[i, 0], joints[i, 1] = xx, xy
+            contact[i] = False
+            lap[i] = -1
+            k, j, px, py = _relocate(xx, xy, k, j, px, py, pts, off, es)
+            ax, ay, a_th, a_sup = xx, xy, phi[i], False
+            placed = i
+            continue
         k, j, xx, xy, x_th, x_dev = r[1], r[2], r[3], r[4], r[5], r[6]
         bridged = r[7] or not a_sup
+        if sk < 0 and a_sup and k >= 0:  # from a landing approach joint onto the lap
+            bridged = x_dev > slack
         overhang = False
         cross = False
         if check >= 2 and bridged:
@@ -362,9 +433,9 @@ def walk(
                 xx, xy = ax + ln * vx / rv, ay + ln * vy / rv
             if not convex and crosses(ax, ay, xx, xy, obj, eps):
                 ok, xx, xy, tip_on = free_direction(ax, ay, xx - ax, xy - ay, ln, obj, eps)
-                if not ok:
-                    status = STATUS_JAMMED
-                    break
+                if not ok:  # wedged
+                    xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
+                    tip_on = False
             if best == np.inf:
                 wj -= 1  # the cursor stays on its own segment
             # cursor: the segment after vertex w
@@ -379,6 +450,8 @@ def walk(
             px, py = xx, xy
             lap[i] = k
             x_sup = x_dev <= slack
+            if k < 0 and np.hypot(xx - spt[0, 0], xy - spt[0, 1]) <= land:
+                x_sup = True
             x_on = x_dev <= exact and k == 0
         phi[i] = _near(np.arctan2(xy - ay, xx - ax), 0.5 * (a_th + x_th))
         joints[i, 0], joints[i, 1] = xx, xy

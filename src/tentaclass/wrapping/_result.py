@@ -39,8 +39,8 @@ class Wrap:
     heading : float
         Reference direction of ``angles[0]``.
     complete : bool
-        All requested links were placed; if False the chain jammed (no next joint
-        within a lap) or ran out of prepared laps, and ``angles`` is shorter.
+        All requested links were placed (always True: a link the support cannot
+        take folds in towards the object instead of ending the chain).
     closure_gap : float
         Distance from the start point to the nearest joint where the chain
         closes its first lap; NaN when ``laps < 1``.

@@ -27,7 +27,7 @@ class Surface:
     theta: FloatArray  # (N,) unwrapped edge directions, per curve
     dev: FloatArray  # (N,) how far each edge strays from the outline (inf off curve 0)
     vidx: np.ndarray  # taut: outline index of each hull vertex; hug: empty
-    n_laps: int  # laps the track provides (large when every lap uses curve 0)
+    n_laps: int  # laps the track provides (unbounded: the last curve repeats)
     scale: float  # largest extent of the outline
     diameter: float
     perimeter: float  # of curve 0
@@ -114,18 +114,20 @@ def _build(
     curves, flags = [c0], [on0]
     per0 = float(np.sum(np.hypot(*(np.roll(c0, -1, axis=0) - c0).T)))
     if thickness > 0:
-        base = shapely.Polygon(c0)
+        base = shapely.make_valid(shapely.Polygon(c0)).buffer(0)
         total, k = 0.0, 1
         while total < arc_needed + per0 and k < 200:
-            ring = base.buffer(k * thickness, quad_segs=8).exterior
+            grown = base.buffer(k * thickness, quad_segs=8)
+            if grown.geom_type != "Polygon":  # a closing that touches itself
+                grown = max(grown.geoms, key=lambda g: g.area)
+            ring = grown.exterior
             ck = _clean_ring(np.asarray(ring.coords)[:-1])
             curves.append(ck)
             flags.append(np.full(len(ck), np.inf))
             total += float(ring.length)
             k += 1
-        n_laps = len(curves)
-    else:
-        n_laps = 1 << 30
+    # laps beyond the last curve built lie on it again: the track never ends
+    n_laps = 1 << 30
     pts = np.ascontiguousarray(np.concatenate(curves))
     off = np.cumsum([0] + [len(c) for c in curves]).astype(np.int64)
     theta = np.concatenate([_edge_theta(c) for c in curves])
