@@ -339,7 +339,8 @@ def _lap_views(
         if n - first_end < 0.5:  # one lap only: the averaged lap is that lap
             continue
         ends = np.linspace(first_end, n, n_views)
-        arc = ends[:, None] - period + np.arange(n_points + 1) / n_points * period
+        # phases sampled as split_laps samples the averaged lap: cell centres
+        arc = ends[:, None] - period + (np.arange(-1, n_points) + 0.5) / n_points * period
         views.append(np.diff(np.interp(arc - 0.5, np.arange(n), heading[i]), axis=1))
         owner.append(np.full(n_views, i))
     return np.concatenate(views), np.concatenate(owner)
