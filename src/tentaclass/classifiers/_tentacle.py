@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 import numbers
-from typing import Any
-
 import warnings
+from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -50,19 +49,34 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     The chain may stand off the object (approach links), wrap it partly, once
     or several times, clockwise or counter-clockwise, from any start point,
     with noisy encoders. From the angles alone the classifier finds the
-    approach and the length of one lap (:func:`tentaclass.features.split_laps`),
-    averages every lap it sees into one (joint noise falls with the number of
-    laps), and compares the averaged lap with every training lap by the
-    Procrustes distance of the rebuilt outlines, minimised over start point,
-    rotation and mirror image, on the lowest half of the frequencies weighted
-    by frequency (:class:`ShiftNNClassifier` with ``signal="shape"``): what
-    held best from clean to 0.05 rad of joint noise, hugging or taut
-    (BENCHMARKS.md). A wrap of less than one lap is matched as an arc against
-    every stretch of every training lap.
+    approach and the length of one lap (:func:`tentaclass.features.split_laps`)
+    and averages every lap it sees into one (joint noise falls with the number
+    of laps). Three members score every class:
 
-    Probabilities are a softmax of the distances to each class's nearest
-    training lap, with a temperature fitted on leave-one-out matches of the
-    training wraps (and of partial arcs cut from them, for partial wraps).
+    - the averaged lap against every training lap by the Procrustes distance
+      of the rebuilt outlines, minimised over start point, rotation and mirror
+      image, on the lowest half of the frequencies weighted by frequency
+      (:class:`ShiftNNClassifier` with ``signal="shape"``): what held best from
+      clean to 0.05 rad of joint noise. Training wraps of more than one lap
+      add windows of exactly one lap cut at other points of the chain (other
+      joint positions on the same outline);
+    - the last lap rebuilt from the joint positions
+      (:func:`tentaclass.features.last_lap`), matched on every frequency: the
+      sharpest with clean encoders;
+    - ``|DFT|`` of the last lap and of the whole array, classified by a small
+      neural network (the whole array resolves corners that a lap of few links
+      cuts).
+
+    The scores (distances to each class's nearest training wrap, scaled, and
+    the network's negative log probabilities) are summed with weights chosen
+    on held-out training wraps (leave-one-object-out for the matchers, 3-fold
+    cross-validation over objects for the network): fewest errors, then least
+    log loss. A wrap of less than one lap is matched as an arc against every
+    stretch of every training lap.
+
+    Probabilities are a softmax of the blended scores, with a temperature
+    fitted on the same held-out wraps (and on partial arcs cut from them, for
+    partial wraps).
 
     Parameters
     ----------
@@ -85,15 +99,26 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     n_features_in_ : int
         Joint angles per array seen in ``fit``.
     matcher_ : ShiftNNClassifier
-        The shape matcher, fitted on the averaged training laps.
+        The shape matcher, fitted on the averaged training laps and the extra
+        one-lap windows.
+    exact_ : ShiftNNClassifier
+        The matcher of last laps rebuilt from joint positions.
+    spectrum_ : Pipeline or None
+        The spectrum network (``None`` with fewer than four training wraps in
+        some class).
+    weights_ : ndarray of shape (3,)
+        Weights of the three members in the blend (the first is 1).
+    lap_scale_, exact_scale_ : float
+        Median held-out nearest distance of each matcher: its distances are
+        divided by it before blending.
     headings_ : ndarray of shape (n_arcs, n_points)
         Heading functions of the closed training laps (and their mirror
         images), for partial wraps.
     arc_labels_ : ndarray of shape (n_arcs,)
         Class index of each row of ``headings_``.
     scale_ : float
-        Median leave-one-out nearest distance of the training laps: distances
-        are divided by it.
+        Median held-out score of the nearest class: blended scores are
+        divided by it.
     temperature_ : float
         Softmax temperature of full wraps (on scaled distances).
     partial_scale_, partial_temperature_ : float
@@ -178,9 +203,7 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
             rows, y_idx[owner]
         )
         # member 2: the last lap rebuilt from the joint positions, every frequency
-        self.exact_ = ShiftNNClassifier(signal="shape").fit(
-            last_lap(X3, self.n_points)[0], y_idx
-        )
+        self.exact_ = ShiftNNClassifier(signal="shape").fit(last_lap(X3, self.n_points)[0], y_idx)
         # member 3: spectra of the last lap and of the whole array, a small network
         counts = np.bincount(y_idx, minlength=k)
         use_spectrum = k > 1 and counts.min() >= _SPECTRUM_MIN_PER_CLASS
@@ -358,9 +381,7 @@ def _spectrum_features(X: FloatArray) -> FloatArray:
 
 
 def _spectrum_model() -> Pipeline:
-    return make_pipeline(
-        StandardScaler(), MLPClassifier((64,), max_iter=400, random_state=0)
-    )
+    return make_pipeline(StandardScaler(), MLPClassifier((64,), max_iter=400, random_state=0))
 
 
 def _fit_spectrum(features: FloatArray, y: np.ndarray) -> Pipeline:
