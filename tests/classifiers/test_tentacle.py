@@ -116,3 +116,45 @@ def test_bad_parameters(kwargs, match):
     X, y = synthetic_tentacle(20, 16, random_state=0, return_X_y=True)
     with pytest.raises(ValueError, match=match):
         TentacleClassifier(**kwargs).fit(X, y)
+
+
+@pytest.fixture(scope="module")
+def sixteen_links():
+    """Thesis classes, 16 links (8-13 per lap): where the members disagree most."""
+    d = synthetic_tentacle(400, 16, noise=0.02, seed=21)
+    t = synthetic_tentacle(200, 16, noise=0.02, seed=22)
+    keep, held = np.isfinite(d.data).all(axis=1), np.isfinite(t.data).all(axis=1)
+    model = TentacleClassifier().fit(d.data[keep], d.target[keep])
+    return model, t.data[held], t.target[held]
+
+
+def test_blend_matches_or_beats_each_member(sixteen_links):
+    model, X, y = sixteen_links
+    assert model.spectrum_ is not None
+    assert model.weights_[0] == 1.0 and np.all(model.weights_ >= 0)
+    blend = model.score(X, y)
+    chosen = model.weights_.copy()
+    alone = {}
+    for name, w in [("lap", [1.0, 0, 0]), ("exact", [1e-9, 1, 0]), ("spectrum", [1e-9, 0, 1])]:
+        model.weights_ = np.array(w)
+        alone[name] = model.score(X, y)
+    model.weights_ = chosen
+    # the weights come from held-out training wraps only: the blend may lose a
+    # wrap or two to the best member on a test set, never more
+    assert blend >= max(alone.values()) - 2.0 / len(y), (blend, alone)
+    assert blend > min(alone.values())
+
+
+def test_longer_wraps_give_one_lap_views():
+    from tentaclass.classifiers._tentacle import _lap_views
+    from tentaclass.features import split_laps
+
+    square = np.tile([0, 0, 0, np.pi / 2], 4)  # one lap of 16 links
+    for X in (np.r_[square, square[:8]], np.r_[square, square]):  # 1.5 and 2 laps
+        X = np.vstack([X, X])
+        views, owner = _lap_views(X, split_laps(X, 16), 16, 2)
+        assert owner.tolist() == [0, 0, 1, 1]
+        np.testing.assert_allclose(views.sum(axis=1), 2 * np.pi)
+        # every window is the square again, from another start point
+        for v in views:
+            assert any(np.allclose(np.roll(v, k), square, atol=1e-9) for k in range(16))

@@ -3,25 +3,42 @@
 from __future__ import annotations
 
 import numbers
+import warnings
 from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import softmax
 from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.exceptions import ConvergenceWarning
+from sklearn.model_selection import GroupKFold
+from sklearn.neural_network import MLPClassifier
+from sklearn.pipeline import Pipeline, make_pipeline
+from sklearn.preprocessing import StandardScaler
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, validate_data
+from threadpoolctl import threadpool_limits
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
-from ..features import split_laps
+from ..features import LapSplit, fourier_features, last_lap, split_laps
 from ._shift_nn import ShiftNNClassifier
 
 __all__ = ["TentacleClassifier"]
 
-#: Training wraps used as leave-one-out queries to calibrate (enough for two numbers).
+#: Training wraps used as held-out queries to weigh the members and calibrate.
 _CALIBRATION_QUERIES = 300
+#: Windows of one lap cut from each training wrap of more than one lap (extra views).
+_VIEWS = 2
+#: Weights tried for the exact-lap and the spectrum member (the lap matcher weighs 1).
+_WEIGHTS = (0.0, 0.25, 0.5, 1.0, 2.0)
+#: Folds (over objects) giving the spectrum member's held-out probabilities.
+_INNER_FOLDS = 3
+#: The spectrum member needs this many training wraps per class (else it is left out).
+_SPECTRUM_MIN_PER_CLASS = 4
+#: Floor of member probabilities before their logarithm is taken.
+_P_FLOOR = 1e-4
 #: Partial arcs cut from training laps to calibrate the partial-wrap matcher.
 _PARTIAL_QUERIES = 100
 
@@ -32,19 +49,34 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     The chain may stand off the object (approach links), wrap it partly, once
     or several times, clockwise or counter-clockwise, from any start point,
     with noisy encoders. From the angles alone the classifier finds the
-    approach and the length of one lap (:func:`tentaclass.features.split_laps`),
-    averages every lap it sees into one (joint noise falls with the number of
-    laps), and compares the averaged lap with every training lap by the
-    Procrustes distance of the rebuilt outlines, minimised over start point,
-    rotation and mirror image, on the lowest half of the frequencies weighted
-    by frequency (:class:`ShiftNNClassifier` with ``signal="shape"``): what
-    held best from clean to 0.05 rad of joint noise, hugging or taut
-    (BENCHMARKS.md). A wrap of less than one lap is matched as an arc against
-    every stretch of every training lap.
+    approach and the length of one lap (:func:`tentaclass.features.split_laps`)
+    and averages every lap it sees into one (joint noise falls with the number
+    of laps). Three members score every class:
 
-    Probabilities are a softmax of the distances to each class's nearest
-    training lap, with a temperature fitted on leave-one-out matches of the
-    training wraps (and of partial arcs cut from them, for partial wraps).
+    - the averaged lap against every training lap by the Procrustes distance
+      of the rebuilt outlines, minimised over start point, rotation and mirror
+      image, on the lowest half of the frequencies weighted by frequency
+      (:class:`ShiftNNClassifier` with ``signal="shape"``): what held best from
+      clean to 0.05 rad of joint noise. Training wraps of more than one lap
+      add windows of exactly one lap cut at other points of the chain (other
+      joint positions on the same outline);
+    - the last lap rebuilt from the joint positions
+      (:func:`tentaclass.features.last_lap`), matched on every frequency: the
+      sharpest with clean encoders;
+    - ``|DFT|`` of the last lap and of the whole array, classified by a small
+      neural network (the whole array resolves corners that a lap of few links
+      cuts).
+
+    The scores (distances to each class's nearest training wrap, scaled, and
+    the network's negative log probabilities) are summed with weights chosen
+    on held-out training wraps (leave-one-object-out for the matchers, 3-fold
+    cross-validation over objects for the network): fewest errors, then least
+    log loss. A wrap of less than one lap is matched as an arc against every
+    stretch of every training lap.
+
+    Probabilities are a softmax of the blended scores, with a temperature
+    fitted on the same held-out wraps (and on partial arcs cut from them, for
+    partial wraps).
 
     Parameters
     ----------
@@ -67,15 +99,26 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     n_features_in_ : int
         Joint angles per array seen in ``fit``.
     matcher_ : ShiftNNClassifier
-        The shape matcher, fitted on the averaged training laps.
+        The shape matcher, fitted on the averaged training laps and the extra
+        one-lap windows.
+    exact_ : ShiftNNClassifier
+        The matcher of last laps rebuilt from joint positions.
+    spectrum_ : Pipeline or None
+        The spectrum network (``None`` with fewer than four training wraps in
+        some class).
+    weights_ : ndarray of shape (3,)
+        Weights of the three members in the blend (the first is 1).
+    lap_scale_, exact_scale_ : float
+        Median held-out nearest distance of each matcher: its distances are
+        divided by it before blending.
     headings_ : ndarray of shape (n_arcs, n_points)
         Heading functions of the closed training laps (and their mirror
         images), for partial wraps.
     arc_labels_ : ndarray of shape (n_arcs,)
         Class index of each row of ``headings_``.
     scale_ : float
-        Median leave-one-out nearest distance of the training laps: distances
-        are divided by it.
+        Median held-out score of the nearest class: blended scores are
+        divided by it.
     temperature_ : float
         Softmax temperature of full wraps (on scaled distances).
     partial_scale_, partial_temperature_ : float
@@ -148,10 +191,46 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         if groups.shape != (len(yv),):
             raise InputError(f"groups must have one entry per wrap ({len(yv)}), got {groups.shape}")
         self.classes_, y_idx = np.unique(yv, return_inverse=True)
-        split = split_laps(_three_or_more(Xv), self.n_points)
+        k = len(self.classes_)
+        X3 = _three_or_more(Xv)
+        split = split_laps(X3, self.n_points)
+        rng = np.random.default_rng(0)
+        # member 1: the averaged lap, plus windows of one lap cut from longer wraps
+        views, owner = _lap_views(X3, split, self.n_points, _VIEWS)
+        rows = np.concatenate([split.lap, views])
+        owner = np.concatenate([np.arange(len(yv)), owner])
         self.matcher_ = ShiftNNClassifier(signal="shape", n_harmonics=0.5, weight_power=1.0).fit(
-            split.lap, y_idx
+            rows, y_idx[owner]
         )
+        # member 2: the last lap rebuilt from the joint positions, every frequency
+        self.exact_ = ShiftNNClassifier(signal="shape").fit(last_lap(X3, self.n_points)[0], y_idx)
+        # member 3: spectra of the last lap and of the whole array, a small network
+        counts = np.bincount(y_idx, minlength=k)
+        use_spectrum = k > 1 and counts.min() >= _SPECTRUM_MIN_PER_CLASS
+        features = _spectrum_features(X3) if use_spectrum else None
+        self.spectrum_ = _fit_spectrum(features, y_idx) if use_spectrum else None
+        # held-out scores of every member on the calibration queries
+        q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
+        d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
+        d[groups[q][:, None] == groups[owner][None, :]] = np.inf
+        s_lap = _class_minima(d, self.matcher_.labels_, k)
+        d = np.sqrt(self.exact_.shift_distances(last_lap(X3[q], self.n_points)[0]))
+        d[groups[q][:, None] == groups[None, :]] = np.inf
+        s_exact = _class_minima(d, y_idx, k)
+        s_spec = None
+        if use_spectrum:
+            s_spec = _held_out_spectrum(features, y_idx, groups, q, k)
+        self.lap_scale_ = _median_nearest(s_lap)
+        self.exact_scale_ = _median_nearest(s_exact)
+        self.weights_ = _choose_weights(
+            s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec, y_idx[q]
+        )
+        blended = _blend(s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec,
+                         self.weights_)  # fmt: skip
+        self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
+            blended, y_idx[q], rate
+        )
+        # partial wraps: arcs of 0.5-0.95 laps cut from the training laps
         closed = np.flatnonzero(split.closed)
         if closed.size == 0:  # no full lap anywhere: arcs of whatever was seen
             closed = np.arange(len(yv))
@@ -160,15 +239,6 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         self.headings_ = heads - heads.mean(axis=1, keepdims=True)
         self.arc_labels_ = np.concatenate([y_idx[closed], y_idx[closed]])
         arc_groups = np.concatenate([groups[closed], groups[closed]])
-        rng = np.random.default_rng(0)
-        # full wraps: leave-one-out nearest distances
-        q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
-        d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
-        d[groups[q][:, None] == groups[None, :]] = np.inf
-        self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
-            _class_minima(d, y_idx, len(self.classes_)), y_idx[q], rate
-        )
-        # partial wraps: arcs of 0.5-0.95 laps cut from the training laps
         q = _subset(len(closed), _PARTIAL_QUERIES, rng)
         d = _cut_arc_distances(self.headings_[q], self.headings_, rng)
         d[arc_groups[q][:, None] == arc_groups[None, :]] = np.inf
@@ -187,13 +257,13 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         """Scaled class distances (n, n_classes), closed flags (n,), laps (n,)."""
         check_is_fitted(self)
         Xv = validate_data(self, X, dtype=np.float64, reset=False)
-        split = split_laps(_three_or_more(Xv), self.n_points)
+        Xv = _three_or_more(Xv)
+        split = split_laps(Xv, self.n_points)
         k = len(self.classes_)
         out = np.empty((len(Xv), k))
         closed = split.closed
         if closed.any():
-            d = np.sqrt(self.matcher_.shift_distances(split.lap[closed]))
-            out[closed] = _class_minima(d, self.matcher_.labels_, k) / self.scale_
+            out[closed] = self._closed_scores(Xv[closed], split.lap[closed]) / self.scale_
         rows = np.flatnonzero(~closed)
         if rows.size:
             heads = np.cumsum(split.lap[rows], axis=1)
@@ -204,6 +274,19 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
                 d[sel] = _arc_distances(_resample_rows(heads[sel], m), self.headings_)
             out[rows] = _class_minima(d, self.arc_labels_, k) / self.partial_scale_
         return out, closed, split.laps
+
+    def _closed_scores(self, X: FloatArray, laps: FloatArray) -> FloatArray:
+        """Blended member scores of wraps with a full lap, before the final scale."""
+        k = len(self.classes_)
+        d = np.sqrt(self.matcher_.shift_distances(laps))
+        s_lap = _class_minima(d, self.matcher_.labels_, k) / self.lap_scale_
+        s_exact = s_spec = None
+        if self.weights_[1] > 0:
+            d = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
+            s_exact = _class_minima(d, self.exact_.labels_, k) / self.exact_scale_
+        if self.weights_[2] > 0:
+            s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
+        return _blend(s_lap, s_exact, s_spec, self.weights_)
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Calibrated class probabilities, shape (n_samples, n_classes); rows sum to 1."""
@@ -258,6 +341,125 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
 def _three_or_more(X: FloatArray) -> FloatArray:
     """Arrays of fewer than 3 joints (no outline) get each turn split over 3 joints."""
     return np.repeat(X, 3, axis=1) / 3 if X.shape[1] < 3 else X
+
+
+def _lap_views(
+    X: FloatArray, split: LapSplit, n_points: int, n_views: int
+) -> tuple[FloatArray, np.ndarray]:
+    """Windows of exactly one lap cut from every wrap of more than one lap.
+
+    A wrap of 1.6 laps holds a full lap ending anywhere in its last 0.6 laps;
+    each such window samples the outline at other points between its joints
+    (and, hugging, at another layer). ``n_views`` windows are cut at evenly
+    spaced ends, resampled to ``n_points`` links like the averaged lap.
+    Returns the windows (rows, n_points) and the wrap each came from.
+    """
+    n = X.shape[1]
+    heading = np.cumsum(X * split.direction[:, None], axis=1)
+    views, owner = [np.empty((0, n_points))], [np.empty(0, np.int64)]
+    for i in np.flatnonzero(split.closed):
+        period, first_end = split.period[i], split.offset[i] + split.period[i]
+        if n - first_end < 0.5:  # one lap only: the averaged lap is that lap
+            continue
+        ends = np.linspace(first_end, n, n_views)
+        # phases sampled as split_laps samples the averaged lap: cell centres
+        arc = ends[:, None] - period + (np.arange(-1, n_points) + 0.5) / n_points * period
+        views.append(np.diff(np.interp(arc - 0.5, np.arange(n), heading[i]), axis=1))
+        owner.append(np.full(n_views, i))
+    return np.concatenate(views), np.concatenate(owner)
+
+
+def _spectrum_features(X: FloatArray) -> FloatArray:
+    """``|DFT|`` of the last lap (detrended) next to ``|DFT|`` of the whole array.
+
+    The whole array sees part of the object a second time from other joint
+    positions: with few links per lap its spectrum tells corners the last lap
+    cuts (a square from a circle).
+    """
+    lap = last_lap(X)[0]
+    return np.hstack([fourier_features(lap, detrend=True), np.abs(np.fft.rfft(X, axis=1))])
+
+
+def _spectrum_model() -> Pipeline:
+    return make_pipeline(StandardScaler(), MLPClassifier((64,), max_iter=400, random_state=0))
+
+
+def _fit_spectrum(features: FloatArray, y: np.ndarray) -> Pipeline:
+    # small matrices: threaded BLAS only adds overhead (ten times slower on two busy cores)
+    with warnings.catch_warnings(), threadpool_limits(1, user_api="blas"):
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        return _spectrum_model().fit(features, y)
+
+
+def _spectrum_scores(model: Pipeline, features: FloatArray, n_classes: int) -> FloatArray:
+    """Negative log probabilities of the spectrum member, (n, n_classes)."""
+    p = np.full((len(features), n_classes), 0.0)
+    with threadpool_limits(1, user_api="blas"):
+        p[:, model.classes_] = model.predict_proba(features)
+    return -np.log(np.maximum(p, _P_FLOOR))
+
+
+def _held_out_spectrum(
+    features: FloatArray, y: np.ndarray, groups: np.ndarray, q: np.ndarray, n_classes: int
+) -> FloatArray:
+    """Spectrum-member scores of the wraps ``q``, each from a model that never saw its object."""
+    out = np.empty((len(q), n_classes))
+    folds = min(_INNER_FOLDS, len(np.unique(groups)))
+    for train, test in GroupKFold(folds).split(features, y, groups):
+        sel = np.flatnonzero(np.isin(q, test))
+        if sel.size == 0:
+            continue
+        model = _fit_spectrum(features[train], y[train])
+        out[sel] = _spectrum_scores(model, features[q[sel]], n_classes)
+    return out
+
+
+def _blend(s_lap, s_exact, s_spec, weights) -> FloatArray:
+    """Weighted sum of the members' class scores (members of weight 0 left out)."""
+    out = weights[0] * s_lap
+    for w, s in ((weights[1], s_exact), (weights[2], s_spec)):
+        if w > 0:
+            out = out + w * s
+    return out
+
+
+def _choose_weights(s_lap, s_exact, s_spec, y) -> FloatArray:
+    """Member weights with the fewest held-out errors, ties to the least log loss.
+
+    Errors first: a member with sharp but often wrong probabilities can lower
+    the log loss of a blend while costing accuracy.
+    """
+    best, chosen = (np.inf, np.inf), np.array([1.0, 0.0, 0.0])
+    for we in _WEIGHTS:
+        for ws in _WEIGHTS if s_spec is not None else (0.0,):
+            w = np.array([1.0, we, ws])
+            blended = _blend(s_lap, s_exact, s_spec, w)
+            key = (int(np.sum(np.argmin(blended, axis=1) != y)), _log_loss(blended, y))
+            if key < best:
+                best, chosen = key, w
+    return chosen
+
+
+def _median_nearest(s: FloatArray) -> float:
+    nearest = s.min(axis=1)
+    finite = nearest[np.isfinite(nearest)]
+    scale = float(np.median(finite)) if finite.size else 1.0
+    return scale if scale > 0 else 1.0
+
+
+def _log_loss(s: FloatArray, y: np.ndarray) -> float:
+    """Held-out log loss of ``softmax(-s / t)`` at the best temperature ``t``."""
+    s = s / _median_nearest(s)
+    rows = np.isfinite(s[np.arange(len(y)), y])
+    if not rows.any():
+        return np.inf
+    s, y = np.where(np.isfinite(s[rows]), s[rows], 1e6), y[rows]
+
+    def loss(log_t: float) -> float:
+        p = softmax(-s / np.exp(log_t), axis=1)
+        return float(-np.mean(np.log(p[np.arange(len(y)), y] + 1e-12)))
+
+    return float(minimize_scalar(loss, bounds=(-6, 4), method="bounded").fun)
 
 
 def _subset(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
