@@ -68,7 +68,7 @@ def _heights(P: FloatArray) -> FloatArray:
     return np.ascontiguousarray(F, dtype=np.float32)
 
 
-def prepare(outlines: list[FloatArray]) -> FloatArray:
+def resample_outlines(outlines: list[FloatArray]) -> FloatArray:
     """Resample validated counter-clockwise outlines to (n, N_POINTS, 2)."""
     return np.stack([resample_closed(o, N_POINTS) for o in outlines])
 
@@ -170,9 +170,22 @@ def _distances(FA, FAm, FB, FBm, symmetric, skip_frac, n_starts):
 
 
 def elastic_distances(A: FloatArray, B: FloatArray | None) -> FloatArray:
-    """Distances between resampled counter-clockwise outlines (see module doc)."""
+    """Distances between resampled counter-clockwise outlines (see module doc).
+
+    The aligned cost is divided by the sum of the two shapes' complexities
+    (the spread of their descriptors over the outline).
+    """
     FA, FAm = height_descriptors(A)
+    ca = complexity(FA)
     if B is None:
-        return _distances(FA, FAm, FA, FAm, True, SKIP, N_STARTS)
+        D = _distances(FA, FAm, FA, FAm, True, SKIP, N_STARTS)
+        return D / (ca[:, None] + ca[None, :])
     FB, FBm = height_descriptors(B)
-    return _distances(FA, FAm, FB, FBm, False, SKIP, N_STARTS)
+    D = _distances(FA, FAm, FB, FBm, False, SKIP, N_STARTS)
+    return D / (ca[:, None] + complexity(FB)[None, :])
+
+
+def complexity(F: FloatArray) -> FloatArray:
+    """Spread of each shape's descriptors: the sum over heights of their standard
+    deviation over the outline (0 only for a shape whose points all look alike)."""
+    return np.maximum(F.std(axis=1, dtype=np.float64).sum(axis=1), 1e-12)
