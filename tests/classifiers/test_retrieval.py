@@ -103,9 +103,11 @@ def _moved(outline, *, start=0, mirror=False, angle=0.0, scale=1.0, shift=(0.0, 
 def test_outline_distance_ignores_similarity_transforms_start_and_direction(change):
     star, other = _star(5), _star(4)
     D = shape_distances([star, _moved(star, **change), other])
-    # known values: a copy is at (almost) zero distance, another shape clearly farther
-    assert D[0, 1] < 0.05 * D[0, 2]
-    assert D[0, 2] > 0.01
+    # a copy is at (almost) zero distance, another shape clearly farther; what is
+    # left comes from resampling the copy from another start point (a fraction of
+    # a step off), bounded by matching against half steps
+    assert D[0, 1] < 0.25 * D[0, 2]
+    assert D[0, 2] > 0.1
 
 
 def test_outline_distance_of_a_reversed_list_of_points_is_zero():
@@ -120,8 +122,12 @@ def test_outline_matrix_is_symmetric_with_zero_diagonal_and_matches_the_rectangu
     np.testing.assert_array_equal(D, D.T)
     np.testing.assert_array_equal(np.diag(D), 0.0)
     assert np.all(D[~np.eye(4, dtype=bool)] > 0)
-    R = shape_distances(np.array([_star(3), _star(4)]), shapes)
-    np.testing.assert_allclose(R[:, :2][np.eye(2, dtype=bool)], 0.0, atol=1e-6)
+    R = shape_distances([shapes[1], shapes[3]], shapes)
+    np.testing.assert_allclose(R[[0, 1], [1, 3]], 0.0, atol=1e-6)
+    np.testing.assert_allclose(R[:, [0, 2]], D[[1, 3]][:, [0, 2]], rtol=0.2)
+    # an array of outlines of one length is the same as the list of them
+    same = [_star(4, n=200), _star(6, n=200)]
+    np.testing.assert_array_equal(shape_distances(np.array(same)), shape_distances(same))
 
 
 def test_outline_distance_grows_with_deformation():

@@ -31,6 +31,9 @@ from ..geometry import resample_closed
 
 #: Points per outline, smoothed height values per point.
 N_POINTS, N_HEIGHTS = 100, 20
+#: Heights are taken of DENSE times as many points; the tangent of a point is
+#: the chord of the points TANGENT_SPAN dense steps before and after it.
+DENSE, TANGENT_SPAN = 4, 4
 #: Weight of a height value: exp(-distance along the outline / (WEIGHT_SCALE * N)).
 WEIGHT_SCALE = 0.25
 #: Price of leaving a point unmatched, in units of the mean point cost.
@@ -39,53 +42,71 @@ SKIP = 0.6
 N_STARTS = 4
 
 
-def height_descriptors(outlines: FloatArray) -> tuple[FloatArray, FloatArray]:
+def height_descriptors(outlines: FloatArray, stride: int) -> tuple[FloatArray, FloatArray]:
     """Weighted, normalised height descriptors of counter-clockwise outlines.
 
-    ``outlines`` has shape (n, N, 2) (resampled); returns ``(F, F_mirror)`` of
-    shape (n, N, M), float32: ``F_mirror`` describes each outline's mirror image
-    traversed counter-clockwise (its reverse with negated heights).
+    ``outlines`` has shape (n, N * DENSE, 2) (resampled); returns ``(F,
+    F_mirror)`` of shape (n, N, M), float32: ``F_mirror`` describes each
+    outline's mirror image traversed counter-clockwise (its reverse with
+    negated heights).
     """
-    F = _heights(outlines)
-    Fm = -_heights(outlines[:, ::-1])
+    F = _heights(outlines, stride)
+    Fm = -_heights(np.roll(outlines[:, ::-1], 1, axis=1), stride)
     return F, Fm
 
 
-def _heights(P: FloatArray) -> FloatArray:
-    n, N, _ = P.shape
-    t = np.roll(P, -1, axis=1) - np.roll(P, 1, axis=1)
+def _heights(Q: FloatArray, stride: int) -> FloatArray:
+    # Q: dense points, DENSE per described point; heights are taken of all dense
+    # points so that each smoothed value is an integral along the outline and
+    # varies smoothly with the described point's position
+    n, K, _ = Q.shape
+    N = K // stride
+    P = Q[:, ::stride]
+    span = TANGENT_SPAN
+    t = np.roll(Q, -span, axis=1)[:, ::stride] - np.roll(Q, span, axis=1)[:, ::stride]
     t /= np.maximum(np.linalg.norm(t, axis=2, keepdims=True), 1e-300)
     normal = np.stack([-t[..., 1], t[..., 0]], axis=-1)  # left: inwards when CCW
-    idx = (np.arange(N)[:, None] + np.arange(1, N)[None, :]) % N  # (N, N-1)
-    rel = P[:, idx, :] - P[:, :, None, :]  # (n, N, N-1, 2)
-    h = np.einsum("nijk,nik->nij", rel, normal)
-    edges = np.linspace(0, N - 1, N_HEIGHTS + 1).round().astype(int)
-    F = np.add.reduceat(h, edges[:-1], axis=2) / np.diff(edges)
-    F /= np.maximum(np.abs(F).max(axis=1, keepdims=True), 1e-300)
-    centre = (edges[:-1] + edges[1:] - 1) / 2 + 1  # steps along the outline
-    w = np.exp(-np.minimum(centre, N - centre) / (WEIGHT_SCALE * N))
+    idx = (stride * np.arange(N)[:, None] + np.arange(1, K)[None, :]) % K  # (N, K-1)
+    F = np.empty((n, N, N_HEIGHTS))
+    edges = np.linspace(0, K - 1, N_HEIGHTS + 1).round().astype(int)
+    for k in range(n):  # one shape at a time: (N, K-1, 2) stays small
+        rel = Q[k, idx, :] - P[k, :, None, :]
+        h = np.einsum("ijk,ik->ij", rel, normal[k])
+        F[k] = np.add.reduceat(h, edges[:-1], axis=1) / np.diff(edges)
+    # scale: by the largest magnitude over the N described points (whatever the stride)
+    coarse = F[:, :: DENSE // stride]
+    F /= np.maximum(np.abs(coarse).max(axis=1, keepdims=True), 1e-300)
+    centre = ((edges[:-1] + edges[1:] - 1) / 2 + 1) / DENSE  # steps along the outline
+    n_points = K // DENSE
+    w = np.exp(-np.minimum(centre, n_points - centre) / (WEIGHT_SCALE * n_points))
     F *= w / w.sum()
     return np.ascontiguousarray(F, dtype=np.float32)
 
 
 def resample_outlines(outlines: list[FloatArray]) -> FloatArray:
-    """Resample validated counter-clockwise outlines to (n, N_POINTS, 2)."""
-    return np.stack([resample_closed(o, N_POINTS) for o in outlines])
+    """Resample validated counter-clockwise outlines to (n, N_POINTS * DENSE, 2)."""
+    return np.stack([resample_closed(o, N_POINTS * DENSE) for o in outlines])
 
 
 _OPTS = {"cache": True, "nogil": True, "fastmath": True, "boundscheck": False}
 
 
 @nb.njit(**_OPTS)
-def _cost(FX, FY, C):
-    # C[i, j] = C[i, j + N] = L1 distance of descriptors i of X and j of Y
+def _cost(FX, FY, C, tmp):
+    # C[i, j] = C[i, j + N] = L1 distance of descriptor i of X to the nearest of
+    # Y's descriptors at j - 1/2, j, j + 1/2 (FY holds them at half steps):
+    # this halves the error of sampling the two outlines at different offsets
     N, M = FX.shape
+    N2 = FY.shape[0]
     total = 0.0
     for i in range(N):
-        for j in range(N):
+        for q in range(N2):
             s = nb.float32(0.0)
             for m in range(M):
-                s += abs(FX[i, m] - FY[j, m])
+                s += abs(FX[i, m] - FY[q, m])
+            tmp[q] = s
+        for j in range(N):
+            s = min(tmp[2 * j], tmp[2 * j - 1], tmp[(2 * j + 1) % N2])
             C[i, j] = s
             C[i, j + N] = s
             total += s
@@ -117,9 +138,9 @@ def _dp(C, shift, skip, row, prev):
 
 
 @nb.njit(**_OPTS)
-def _match(FX, FY, C, score, row, prev, skip_frac, n_starts):
+def _match(FX, FY, C, tmp, score, row, prev, skip_frac, n_starts):
     N = FX.shape[0]
-    mean = _cost(FX, FY, C)
+    mean = _cost(FX, FY, C, tmp)
     # rigid alignment: total cost of every cyclic offset
     for s in range(N):
         t = 0.0
@@ -142,7 +163,7 @@ def _match(FX, FY, C, score, row, prev, skip_frac, n_starts):
 
 
 @nb.njit(parallel=True, **_OPTS)
-def _distances(FA, FAm, FB, FBm, symmetric, skip_frac, n_starts):
+def _distances(FA, FB, FBm, symmetric, skip_frac, n_starts):
     na, N, _ = FA.shape
     nb_ = FB.shape[0]
     D = np.zeros((na, nb_))
@@ -151,6 +172,7 @@ def _distances(FA, FAm, FB, FBm, symmetric, skip_frac, n_starts):
     for task in nb.prange(n_tasks):
         C = np.empty((N, 2 * N), dtype=np.float32)
         score = np.empty(N)
+        tmp = np.empty(2 * N, dtype=np.float32)
         row = np.empty(N + 1)
         prev = np.empty(N + 1)
         for k in range(2):
@@ -159,8 +181,8 @@ def _distances(FA, FAm, FB, FBm, symmetric, skip_frac, n_starts):
                 break
             start = a + 1 if symmetric else 0
             for b in range(start, nb_):
-                d1 = _match(FA[a], FB[b], C, score, row, prev, skip_frac, n_starts)
-                d2 = _match(FA[a], FBm[b], C, score, row, prev, skip_frac, n_starts)
+                d1 = _match(FA[a], FB[b], C, tmp, score, row, prev, skip_frac, n_starts)
+                d2 = _match(FA[a], FBm[b], C, tmp, score, row, prev, skip_frac, n_starts)
                 D[a, b] = min(d1, d2)
     if symmetric:
         for a in range(na):
@@ -175,14 +197,12 @@ def elastic_distances(A: FloatArray, B: FloatArray | None) -> FloatArray:
     The aligned cost is divided by the sum of the two shapes' complexities
     (the spread of their descriptors over the outline).
     """
-    FA, FAm = height_descriptors(A)
+    FA, _ = height_descriptors(A, DENSE)
     ca = complexity(FA)
-    if B is None:
-        D = _distances(FA, FAm, FA, FAm, True, SKIP, N_STARTS)
-        return D / (ca[:, None] + ca[None, :])
-    FB, FBm = height_descriptors(B)
-    D = _distances(FA, FAm, FB, FBm, False, SKIP, N_STARTS)
-    return D / (ca[:, None] + complexity(FB)[None, :])
+    FB, FBm = height_descriptors(A if B is None else B, DENSE // 2)
+    D = _distances(FA, FB, FBm, B is None, SKIP, N_STARTS)
+    cb = ca if B is None else complexity(FB[:, ::2])
+    return D / (ca[:, None] + cb[None, :])
 
 
 def complexity(F: FloatArray) -> FloatArray:
