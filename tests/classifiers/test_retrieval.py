@@ -151,10 +151,23 @@ def test_bad_outlines(A, B, match):
         shape_distances(A, B)
 
 
-# classes told apart by shape; 5 per class keeps the test well under 20 s
-MPEG7_CLASSES = ("apple", "bat", "Bone", "camel", "cup", "deer", "fork", "Heart", "key", "spoon")
+# articulated or deformed classes, where a rigid match of the centroid signature
+# fails; 5 shapes per class keep the test well under 20 s
+MPEG7_CLASSES = (
+    "bat",
+    "beetle",
+    "camel",
+    "chicken",
+    "elephant",
+    "fish",
+    "horse",
+    "Misk",
+    "sea_snake",
+    "tree",
+)
 
 
+@pytest.mark.slow  # about 10 s of CPU, more on a loaded machine
 def test_mpeg7_subset_retrieval(mpeg7_folder):
     from tentaclass.shapes import load_mpeg7
 
@@ -165,5 +178,6 @@ def test_mpeg7_subset_retrieval(mpeg7_folder):
     X = np.array([outline_to_series(outlines[i], 128) for i in keep])
     elastic = bullseye_score(D, labels[keep], top=10)
     rigid = bullseye_score(shape_distances(X), labels[keep], top=10)
-    assert elastic > 0.9
-    assert elastic > rigid
+    # measured: 0.972 against 0.772
+    assert elastic > 0.8
+    assert elastic > rigid + 0.15

@@ -1,5 +1,4 @@
-"""Elastic matching of closed outlines: height-function descriptors aligned by
-dynamic programming.
+"""Elastic matching of closed outlines: height functions aligned by dynamic programming.
 
 Every outline is resampled to ``N`` points equally spaced by arc length. The
 descriptor of point ``i`` holds the signed distances ("heights") of the other
@@ -13,7 +12,13 @@ unmatched at a fixed price) found by dynamic programming, started at the few
 cyclic offsets where a rigid alignment of the descriptors is best, and for the
 mirror image too (J. Wang, X. Bai, X. You, W. Liu, L. J. Latecki, "Shape
 matching and classification using height functions", Pattern Recognition
-Letters 33, 2012).
+Letters 33, 2012). The second outline's descriptors are also taken half-way
+between its points (a point of the first is matched with the nearest of three),
+so that two outlines sampled from different start points still match closely;
+the aligned cost is divided by the two shapes' complexities, as in the paper.
+Work: the cost matrix (N x 2N x M) and N_STARTS alignments (N x N) per pair and
+direction, each pair of a square matrix once, pairs of rows spread over numba's
+threads.
 
 The matcher is written by hand in numba: no maintained library aligns cyclic
 sequences of point descriptors order-preservingly with unmatched points (DTW
@@ -206,6 +211,9 @@ def elastic_distances(A: FloatArray, B: FloatArray | None) -> FloatArray:
 
 
 def complexity(F: FloatArray) -> FloatArray:
-    """Spread of each shape's descriptors: the sum over heights of their standard
-    deviation over the outline (0 only for a shape whose points all look alike)."""
+    """Spread of each shape's descriptors over its outline.
+
+    The sum over heights of their standard deviation (0 only for a shape whose
+    points all look alike, such as a circle: floored at 1e-12).
+    """
     return np.maximum(F.std(axis=1, dtype=np.float64).sum(axis=1), 1e-12)

@@ -91,9 +91,7 @@ def shape_distances(A: ArrayLike, B: ArrayLike | None = None) -> FloatArray:
     outlines_a = _outlines_or_none(A, "A")
     outlines_b = None if B is None else _outlines_or_none(B, "B")
     if B is not None and (outlines_a is None) != (outlines_b is None):
-        raise InputError(
-            "A and B must be of one kind: both outlines (n_points, 2) or both series"
-        )
+        raise InputError("A and B must be of one kind: both outlines (n_points, 2) or both series")
     if outlines_a is not None:
         return elastic_distances(outlines_a, outlines_b)
     Za = _series(A, "A")
