@@ -83,8 +83,9 @@ def shape_distances(A: ArrayLike, B: ArrayLike | None = None) -> FloatArray:
 
     Outline series: the same series shifted and reversed is at distance 0.
 
-    >>> a = np.cos(3 * t[:32, 0] * 6)
-    >>> D = shape_distances([a, np.roll(a, 5)[::-1], np.sin(2 * t[:32, 0] * 6)])
+    >>> u = np.linspace(0, 2 * np.pi, 32, endpoint=False)
+    >>> a = np.cos(3 * u)
+    >>> D = shape_distances([a, np.roll(a, 5)[::-1], np.cos(2 * u)])
     >>> bool(D[0, 1] < 1e-9 < D[0, 2])
     True
     """
