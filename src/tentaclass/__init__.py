@@ -46,6 +46,7 @@ if TYPE_CHECKING:
         split_laps,
         turning_function,
     )
+    from ._dask import read_parquet_rows
     from .geometry import angles_to_points, points_to_angles, resample_closed
     from .io import load_model, save_model
     from .manipulator import ChainKinematics, PlanarChain, Trajectory
@@ -98,6 +99,7 @@ __all__ = [
     "outline_to_series",
     "periodic_signal",
     "points_to_angles",
+    "read_parquet_rows",
     "resample_closed",
     "save_model",
     "shape_distances",
@@ -147,6 +149,7 @@ _HOME = {
     "modern_mlp": "classifiers",
     "periodic_signal": "features",
     "points_to_angles": "geometry",
+    "read_parquet_rows": "_dask",
     "resample_closed": "geometry",
     "save_model": "io",
     "thesis_mlp": "classifiers",
