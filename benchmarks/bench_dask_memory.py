@@ -44,8 +44,9 @@ MiB = 2**20
 def prepare(workdir: Path, arrays: int, files: int) -> None:
     """Parquet files and a saved FourierClassifier (run in a child process)."""
     sys.path.insert(0, str(Path(__file__).parent))
-    import tentaclass as tc
     from bench_dask import N_JOINTS, make_parquet
+
+    import tentaclass as tc
     from tentaclass.datasets import reference_tentacle
 
     make_parquet(workdir / "parquet", arrays, files)
@@ -175,7 +176,8 @@ def main() -> None:
     for key in ("one_worker_rss", "workers_rss", "workers_pss", "workers_uss", "driver_rss",
                 "driver_pss", "driver_uss", "total_rss", "total_pss"):  # fmt: skip
         print(f"{key:<28} {idle[key]:8.0f} {peak[key]:8.0f}")
-    print(f"driver before the cluster started: {res['driver_before_cluster']['driver_rss']:.0f} MiB RSS")
+    before = res["driver_before_cluster"]["driver_rss"]
+    print(f"driver before the cluster started: {before:.0f} MiB RSS")
     if args.json is not None:
         args.json.write_text(json.dumps(res, indent=1))
 

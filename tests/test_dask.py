@@ -125,8 +125,8 @@ def test_read_parquet_rows(client, data, tmp_path):
     X, y, Xn = data
     names = [f"q{j}" for j in range(16)]
     paths = [tmp_path / "a.parquet", tmp_path / "b.parquet"]
-    pq.write_table(pa.table(dict(zip(names, Xn[:200].T))), paths[0], row_group_size=64)
-    pq.write_table(pa.table(dict(zip(names, Xn[200:].T))), paths[1], row_group_size=64)
+    pq.write_table(pa.table(dict(zip(names, Xn[:200].T, strict=True))), paths[0], row_group_size=64)
+    pq.write_table(pa.table(dict(zip(names, Xn[200:].T, strict=True))), paths[1], row_group_size=64)
     rows = tc.read_parquet_rows(paths)
     assert rows.chunks == ((64, 64, 64, 8, 64, 36), (16,))
     np.testing.assert_array_equal(client.compute(rows).result(), Xn)

@@ -24,6 +24,7 @@ from ._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from . import shapes
+    from ._dask import read_parquet_rows
     from .classifiers import (
         FourierClassifier,
         OutlineClassifier,
@@ -46,7 +47,6 @@ if TYPE_CHECKING:
         split_laps,
         turning_function,
     )
-    from ._dask import read_parquet_rows
     from .geometry import angles_to_points, points_to_angles, resample_closed
     from .io import load_model, save_model
     from .manipulator import ChainKinematics, PlanarChain, Trajectory
