@@ -146,6 +146,26 @@ def test_read_parquet_rows(client, data, tmp_path):
         tc.read_parquet_rows([])
 
 
+def test_read_parquet_rows_types_and_imports(tmp_path):
+    """Integers and nulls convert; a worker reading a row group does not import pandas."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "m.parquet"
+    table = {"a": pa.array([1, 2, 3], pa.int32()), "b": pa.array([1.5, None, 2.0])}
+    pq.write_table(pa.table(table), path)
+    np.testing.assert_array_equal(
+        tc.read_parquet_rows(path).compute(scheduler="sync"), [[1, 1.5], [2, np.nan], [3, 2.0]]
+    )
+    probe = (
+        "import sys, numpy as np; from tentaclass._dask import _read_row_group; "
+        f"x = _read_row_group({str(path)!r}, 0, ['a', 'b'], np.dtype(float)); "
+        "print(x[:, 0].tolist(), 'pandas' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["[1.0,", "2.0,", "3.0]", "False"]
+
+
 def test_estimator_agrees_with_dask_ml(client, data):
     """An independent implementation of block-wise predict: dask-ml's ParallelPostFit."""
     wrappers = pytest.importorskip("dask_ml.wrappers")

@@ -492,8 +492,33 @@ def _read_row_group(path: str, group: int, columns: list[str], dtype: np.dtype) 
     table = pq.ParquetFile(path).read_row_group(group, columns=columns)
     out = np.empty((table.num_rows, len(columns)), dtype)
     for j, column in enumerate(table.columns):
-        out[:, j] = column.to_numpy()
+        lo = 0
+        for chunk in column.chunks:
+            out[lo : lo + len(chunk), j] = _chunk_values(chunk)
+            lo += len(chunk)
     return out
+
+
+def _chunk_values(chunk: Any) -> np.ndarray:
+    """A pyarrow array of numbers as NumPy values (nulls as NaN), from its buffer.
+
+    (``Array.to_numpy`` imports pandas, which a worker reading numbers does not need.)
+    """
+    import pyarrow as pa
+
+    kinds = {"f": pa.types.is_floating, "i": pa.types.is_signed_integer,
+             "u": pa.types.is_unsigned_integer}  # fmt: skip
+    kind = next((k for k, test in kinds.items() if test(chunk.type)), None)
+    if kind is None:
+        return chunk.to_numpy(zero_copy_only=False)
+    validity, data = chunk.buffers()[:2]
+    end = chunk.offset + len(chunk)
+    values = np.frombuffer(data, f"={kind}{chunk.type.bit_width // 8}", end)[chunk.offset :]
+    if chunk.null_count:
+        bits = np.unpackbits(np.frombuffer(validity, np.uint8), count=end, bitorder="little")
+        values = values.astype(np.float64)
+        values[bits[chunk.offset :] == 0] = np.nan
+    return values
 
 
 def read_parquet_rows(
