@@ -14,8 +14,10 @@ and every 0.5 s their proportional set
 (PSS: each shared page divided among the processes sharing it) and unique set
 (USS: pages no other process shares). Summing RSS counts the shared library
 pages once per process, so the summed RSS overstates the machine's memory use;
-the summed PSS is what the processes take together; the summed USS leaves out
-the shared pages altogether.
+the summed USS leaves them out altogether; the summed PSS divides them among
+all processes that map them (on a machine running other Python processes from
+the same environment, those too). "USS + shared" adds the shared pages of the
+largest process once to the summed USS: an estimate of what the job takes.
 
 The data and the model are made first in a separate process (so that the
 wrap generator used for the training arrays is not loaded here). Run::
@@ -69,6 +71,7 @@ class Memory:
         out = {"driver_rss": 0.0, "workers_rss": 0.0, "one_worker_rss": 0.0}
         if uss:
             out.update(driver_uss=0.0, workers_uss=0.0, driver_pss=0.0, workers_pss=0.0)
+            shared = 0.0
         for proc in [self.me, *kids]:
             try:
                 rss = proc.memory_info().rss / MiB
@@ -80,11 +83,15 @@ class Memory:
             if full is not None:
                 out[f"{who}_uss"] += full.uss / MiB
                 out[f"{who}_pss"] += full.pss / MiB
+                shared = max(shared, (full.rss - full.uss) / MiB)
             if who == "workers":
                 out["one_worker_rss"] = max(out["one_worker_rss"], rss)
         out["total_rss"] = out["driver_rss"] + out["workers_rss"]
         if uss:
             out["total_pss"] = out["driver_pss"] + out["workers_pss"]
+            out["total_uss"] = out["driver_uss"] + out["workers_uss"]
+            # the largest process's shared pages, counted once (the others map much the same)
+            out["total_uss_plus_shared"] = out["total_uss"] + shared
         out["n_children"] = len(kids)
         return out
 
@@ -174,7 +181,8 @@ def main() -> None:
     )
     print(f"{'MiB':<28} {'idle':>8} {'peak':>8}")
     for key in ("one_worker_rss", "workers_rss", "workers_pss", "workers_uss", "driver_rss",
-                "driver_pss", "driver_uss", "total_rss", "total_pss"):  # fmt: skip
+                "driver_pss", "driver_uss", "total_rss", "total_pss", "total_uss",
+                "total_uss_plus_shared"):  # fmt: skip
         print(f"{key:<28} {idle[key]:8.0f} {peak[key]:8.0f}")
     before = res["driver_before_cluster"]["driver_rss"]
     print(f"driver before the cluster started: {before:.0f} MiB RSS")
