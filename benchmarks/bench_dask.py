@@ -7,9 +7,10 @@ Three jobs, each timed on both clusters in turn (min of interleaved repeats):
 - featurise + predict: 10^7 joint-angle arrays (16 joints) in Parquet files,
   streamed two ways: ``classify --files`` (one task per file, record batches
   of 65 536 arrays, label files written) and the library path
-  (``dask.dataframe.read_parquet`` -> ``TentacleClassifier.predict`` on the
-  dask array -> class counts). The peak RSS of every worker process is
-  sampled every 50 ms;
+  (``read_parquet_rows`` -> ``FourierClassifier.predict`` on the dask array
+  -> class counts). The peak RSS of every worker process is sampled every
+  50 ms (workers that have run every job; ``bench_dask_memory.py`` measures
+  the predict job alone on fresh workers);
 - scanning belts: ``scan --files`` over 20 belt PBM files.
 
 Workers run one thread each, and distributed starts them with
@@ -35,7 +36,6 @@ import time
 from pathlib import Path
 
 import dask.array as da
-import dask.dataframe as dd
 import numpy as np
 import psutil
 import pyarrow as pa
@@ -173,8 +173,7 @@ def main() -> None:
         return sum(n for _, _, n in done)
 
     def predict_lib(client):
-        ddf = dd.read_parquet(parquet, split_row_groups=True)
-        labels = model.predict(ddf.to_dask_array())
+        labels = model.predict(tc.read_parquet_rows(parquet))
         counts = client.compute([(labels == c).sum() for c in model.classes_], sync=True)
         return int(sum(counts))
 

@@ -119,6 +119,53 @@ def test_estimators_on_cluster(client, data):
     )
 
 
+def test_read_parquet_rows(client, data, tmp_path):
+    """Row groups become blocks; the rows and the predictions equal those read by dask.dataframe."""
+    dd = pytest.importorskip("dask.dataframe")
+    X, y, Xn = data
+    names = [f"q{j}" for j in range(16)]
+    paths = [tmp_path / "a.parquet", tmp_path / "b.parquet"]
+    pq.write_table(pa.table(dict(zip(names, Xn[:200].T, strict=True))), paths[0], row_group_size=64)
+    pq.write_table(pa.table(dict(zip(names, Xn[200:].T, strict=True))), paths[1], row_group_size=64)
+    rows = tc.read_parquet_rows(paths)
+    assert rows.chunks == ((64, 64, 64, 8, 64, 36), (16,))
+    np.testing.assert_array_equal(client.compute(rows).result(), Xn)
+    theirs = dd.read_parquet(paths, split_row_groups=True).to_dask_array()
+    clf = tc.FourierClassifier(detrend=True, spread=0.5).fit(X, y)
+    ours, theirs = client.compute([clf.predict(rows), clf.predict(theirs)], sync=True)
+    np.testing.assert_array_equal(ours, theirs)
+    np.testing.assert_array_equal(
+        tc.read_parquet_rows(paths[0], columns=["q3", "q0"]).compute(), Xn[:200, [3, 0]]
+    )
+    with pytest.raises(tc.errors.InputError, match="no column 'z'"):
+        tc.read_parquet_rows(paths, columns=["z"])
+    (tmp_path / "bad.parquet").write_text("not parquet")
+    with pytest.raises(tc.errors.InputError, match="not a readable Parquet file"):
+        tc.read_parquet_rows([tmp_path / "bad.parquet"])
+    with pytest.raises(tc.errors.InputError, match="no Parquet files"):
+        tc.read_parquet_rows([])
+
+
+def test_read_parquet_rows_types_and_imports(tmp_path):
+    """Integers and nulls convert; a worker reading a row group does not import pandas."""
+    import subprocess
+    import sys
+
+    path = tmp_path / "m.parquet"
+    table = {"a": pa.array([1, 2, 3], pa.int32()), "b": pa.array([1.5, None, 2.0])}
+    pq.write_table(pa.table(table), path)
+    np.testing.assert_array_equal(
+        tc.read_parquet_rows(path).compute(scheduler="sync"), [[1, 1.5], [2, np.nan], [3, 2.0]]
+    )
+    probe = (
+        "import sys, numpy as np; from tentaclass._dask import _read_row_group; "
+        f"x = _read_row_group({str(path)!r}, 0, ['a', 'b'], np.dtype(float)); "
+        "print(x[:, 0].tolist(), 'pandas' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["[1.0,", "2.0,", "3.0]", "False"]
+
+
 def test_estimator_agrees_with_dask_ml(client, data):
     """An independent implementation of block-wise predict: dask-ml's ParallelPostFit."""
     wrappers = pytest.importorskip("dask_ml.wrappers")

@@ -24,6 +24,7 @@ from ._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from . import shapes
+    from ._dask import read_parquet_rows
     from .classifiers import (
         FourierClassifier,
         OutlineClassifier,
@@ -98,6 +99,7 @@ __all__ = [
     "outline_to_series",
     "periodic_signal",
     "points_to_angles",
+    "read_parquet_rows",
     "resample_closed",
     "save_model",
     "shape_distances",
@@ -147,6 +149,7 @@ _HOME = {
     "modern_mlp": "classifiers",
     "periodic_signal": "features",
     "points_to_angles": "geometry",
+    "read_parquet_rows": "_dask",
     "resample_closed": "geometry",
     "save_model": "io",
     "thesis_mlp": "classifiers",

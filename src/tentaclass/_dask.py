@@ -13,6 +13,8 @@ one line each:
   ``decision_function``;
 - :func:`wrap_blocks` runs :func:`tentaclass.wrap_many` once per chunk of its
   parameter arrays (or per partition of a bag of outlines);
+- :func:`read_parquet_rows` reads Parquet files as a dask array, one block
+  per row group, with pyarrow alone in the tasks (no pandas, no dask.dataframe);
 - :func:`scheduler` opens a client (a ``LocalCluster`` or a running
   scheduler) for the command line; :func:`map_files` runs one job per input
   file on it, each writing its output under a temporary name that is renamed
@@ -48,6 +50,7 @@ __all__ = [
     "blockwise",
     "is_dask_collection",
     "map_files",
+    "read_parquet_rows",
     "scheduler",
     "wrap_blocks",
 ]
@@ -474,6 +477,138 @@ def scheduler(
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+# -- Parquet rows --------------------------------------------------------------------------------
+
+
+def _read_row_group(path: str, group: int, columns: list[str], dtype: np.dtype) -> np.ndarray:
+    import pyarrow.parquet as pq
+
+    table = pq.ParquetFile(path).read_row_group(group, columns=columns)
+    out = np.empty((table.num_rows, len(columns)), dtype)
+    for j, column in enumerate(table.columns):
+        lo = 0
+        for chunk in column.chunks:
+            out[lo : lo + len(chunk), j] = _chunk_values(chunk)
+            lo += len(chunk)
+    return out
+
+
+def _chunk_values(chunk: Any) -> np.ndarray:
+    """A pyarrow array of numbers as NumPy values (nulls as NaN), from its buffer.
+
+    (``Array.to_numpy`` imports pandas, which a worker reading numbers does not need.)
+    """
+    import pyarrow as pa
+
+    kinds = {"f": pa.types.is_floating, "i": pa.types.is_signed_integer,
+             "u": pa.types.is_unsigned_integer}  # fmt: skip
+    kind = next((k for k, test in kinds.items() if test(chunk.type)), None)
+    if kind is None:
+        return chunk.to_numpy(zero_copy_only=False)
+    validity, data = chunk.buffers()[:2]
+    end = chunk.offset + len(chunk)
+    values = np.frombuffer(data, f"={kind}{chunk.type.bit_width // 8}", end)[chunk.offset :]
+    if chunk.null_count:
+        bits = np.unpackbits(np.frombuffer(validity, np.uint8), count=end, bitorder="little")
+        values = values.astype(np.float64)
+        values[bits[chunk.offset :] == 0] = np.nan
+    return values
+
+
+def read_parquet_rows(
+    paths: str | os.PathLike | Sequence[str | os.PathLike],
+    columns: Sequence[str] | None = None,
+    dtype: Any = np.float64,
+) -> Any:
+    """Rows of Parquet files as a lazy dask array: one block per row group.
+
+    Each block is read by its task with pyarrow alone (no pandas, no
+    dask.dataframe), so a worker holds one row group at a time: memory is
+    bounded by the row-group size, not by the data. The row counts come from
+    the files' footers, so the chunks are known (unlike a dask DataFrame's).
+
+    Parameters
+    ----------
+    paths : path or sequence of paths
+        Parquet files with the same columns.
+    columns : sequence of str, optional
+        The columns to read, in this order (default: all of the first file's).
+    dtype : numpy dtype, default float64
+        Dtype of the array.
+
+    Returns
+    -------
+    dask array of shape (n_rows, n_columns)
+        Chunked by row group along the rows, one chunk along the columns.
+
+    Raises
+    ------
+    InputError
+        If ``paths`` is empty, a file is not readable Parquet, or lacks a column.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import pyarrow as pa, pyarrow.parquet as pq
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "q.parquet"
+    >>> pq.write_table(pa.table({"q0": np.arange(5.0), "q1": -np.arange(5.0)}), path,
+    ...                row_group_size=2)
+    >>> x = read_parquet_rows([path])
+    >>> x.chunks
+    ((2, 2, 1), (2,))
+    >>> x[:, 1].sum().compute()
+    np.float64(-10.0)
+    """
+    import dask.array as da
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    from dask.base import tokenize
+    from dask.highlevelgraph import HighLevelGraph
+
+    if isinstance(paths, (str, os.PathLike)):
+        paths = [paths]
+    files = [os.fspath(p) for p in paths]
+    if not files:
+        raise InputError("paths: no Parquet files given")
+    dtype = np.dtype(dtype)
+    blocks: list[tuple[str, int]] = []
+    sizes: list[int] = []
+    stamps: list[tuple[int, int]] = []
+    for path in files:
+        try:
+            meta = pq.read_metadata(path)
+            stamp = os.stat(path)
+        except (OSError, pa.ArrowException) as exc:
+            raise InputError(f"paths: {path} is not a readable Parquet file ({exc})") from None
+        names = meta.schema.to_arrow_schema().names
+        if columns is None:
+            columns = names
+        missing = [c for c in columns if c not in names]
+        if missing:
+            raise InputError(f"paths: {path} has no column {missing[0]!r} (it has {names})")
+        stamps.append((stamp.st_mtime_ns, stamp.st_size))
+        for group in range(meta.num_row_groups):
+            rows = meta.row_group(group).num_rows
+            if rows:
+                blocks.append((path, group))
+                sizes.append(rows)
+    columns = list(columns)
+    if not blocks:
+        return da.empty((0, len(columns)), dtype=dtype)
+    name = "read-parquet-rows-" + tokenize(files, stamps, columns, dtype.str)
+    graph = {
+        (name, i, 0): (_read_row_group, path, group, columns, dtype)
+        for i, (path, group) in enumerate(blocks)
+    }
+    chunks = (tuple(sizes), (len(columns),))
+    return da.Array(
+        HighLevelGraph.from_collections(name, graph, dependencies=[]),
+        name,
+        chunks,
+        meta=np.empty((0, len(columns)), dtype),
+    )
 
 
 # -- one job per file ----------------------------------------------------------------------------
