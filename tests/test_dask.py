@@ -302,7 +302,7 @@ def test_scan_files(client, tmp_path):
     belts = tmp_path / "belts"
     belts.mkdir()
     for i in range(3):
-        write_pbm(belts / f"belt{i}.pbm", make_belt(6, 128, seed=i).image)
+        write_pbm(belts / f"belt{i}.pbm", make_belt(6, 128, random_state=i).image)
     for name, extra in (("here", []), ("cluster", ["--scheduler", client.scheduler.address])):
         res = _run("scan", "--files", f"{belts}/*.pbm", "--out-dir", tmp_path / name, *extra)
         assert res.exit_code == 0, res.output

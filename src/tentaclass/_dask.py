@@ -594,11 +594,11 @@ def read_parquet_rows(
             if rows:
                 blocks.append((path, group))
                 sizes.append(rows)
-    columns = list(columns)
+    columns = list(columns or [])
     if not blocks:
         return da.empty((0, len(columns)), dtype=dtype)
     name = "read-parquet-rows-" + tokenize(files, stamps, columns, dtype.str)
-    graph = {
+    graph: dict[Any, Any] = {
         (name, i, 0): (_read_row_group, path, group, columns, dtype)
         for i, (path, group) in enumerate(blocks)
     }

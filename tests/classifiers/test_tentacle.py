@@ -121,8 +121,8 @@ def test_bad_parameters(kwargs, match):
 @pytest.fixture(scope="module")
 def sixteen_links():
     """Thesis classes, 16 links (8-13 per lap): where the members disagree most."""
-    d = synthetic_tentacle(400, 16, noise=0.02, seed=21)
-    t = synthetic_tentacle(200, 16, noise=0.02, seed=22)
+    d = synthetic_tentacle(400, 16, noise=0.02, random_state=21)
+    t = synthetic_tentacle(200, 16, noise=0.02, random_state=22)
     keep, held = np.isfinite(d.data).all(axis=1), np.isfinite(t.data).all(axis=1)
     model = TentacleClassifier().fit(d.data[keep], d.target[keep])
     return model, t.data[held], t.target[held]

@@ -155,7 +155,7 @@ def _match(FX, FY, C, tmp, score, row, prev, skip_frac, n_starts):
     skip = skip_frac * mean
     best = np.inf
     for _ in range(n_starts):
-        s = np.argmin(score)
+        s = int(np.argmin(score))
         if score[s] == np.inf:
             break
         # suppress the neighbouring offsets: the alignment absorbs small ones
@@ -181,8 +181,8 @@ def _distances(FA, FB, FBm, symmetric, skip_frac, n_starts):
         row = np.empty(N + 1)
         prev = np.empty(N + 1)
         for k in range(2):
-            a = np.int64(task) if k == 0 else np.int64(na - 1 - task)
-            if k == 1 and a == np.int64(task):
+            a = int(task) if k == 0 else int(na - 1 - task)
+            if k == 1 and a == int(task):
                 break
             start = a + 1 if symmetric else 0
             for b in range(start, nb_):

@@ -230,6 +230,7 @@ class ShiftNNClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
                     corr = np.fft.irfft(prod, n=n, axis=-1).max(axis=-1)
                 best = corr if best is None else np.maximum(best, corr)
             sl = slice(lo, lo + rows)
+            assert best is not None  # at least one view was scored
             out[sl] = np.maximum(sq[qi[sl]] + self.norms_[ti[sl]] - 2 * best, 0.0)
         return out
 

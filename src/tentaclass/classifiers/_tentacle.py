@@ -207,7 +207,7 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         # member 3: spectra of the last lap and of the whole array, a small network
         counts = np.bincount(y_idx, minlength=k)
         use_spectrum = k > 1 and counts.min() >= _SPECTRUM_MIN_PER_CLASS
-        features = _spectrum_features(X3) if use_spectrum else None
+        features = _spectrum_features(X3) if use_spectrum else np.empty((0, 0))
         self.spectrum_ = _fit_spectrum(features, y_idx) if use_spectrum else None
         # held-out scores of every member on the calibration queries
         q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
@@ -414,16 +414,23 @@ def _held_out_spectrum(
     return out
 
 
-def _blend(s_lap, s_exact, s_spec, weights) -> FloatArray:
+def _blend(
+    s_lap: FloatArray,
+    s_exact: FloatArray | None,
+    s_spec: FloatArray | None,
+    weights: FloatArray,
+) -> FloatArray:
     """Weighted sum of the members' class scores (members of weight 0 left out)."""
     out = weights[0] * s_lap
     for w, s in ((weights[1], s_exact), (weights[2], s_spec)):
-        if w > 0:
+        if w > 0 and s is not None:
             out = out + w * s
     return out
 
 
-def _choose_weights(s_lap, s_exact, s_spec, y) -> FloatArray:
+def _choose_weights(
+    s_lap: FloatArray, s_exact: FloatArray, s_spec: FloatArray | None, y: np.ndarray
+) -> FloatArray:
     """Member weights with the fewest held-out errors, ties to the least log loss.
 
     Errors first: a member with sharp but often wrong probabilities can lower

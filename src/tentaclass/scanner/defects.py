@@ -131,7 +131,9 @@ def _enclosing_triangles(hulls: np.ndarray) -> np.ndarray:
     return out
 
 
-def _expected_outlines(rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence) -> np.ndarray:
+def _expected_outlines(
+    rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence | np.ndarray
+) -> np.ndarray:
     """:func:`expected_outline` of each centre hull ring (rings one after the other)."""
     n = ring_starts.size - 1
     counts = np.diff(ring_starts)
@@ -244,6 +246,7 @@ def find_defects_many(
             core=np.concatenate([g.core.ravel() for g in geoms]),
         )
     flat, starts, heights, widths, filled, core = batch
+    assert core is not None  # set above or by measure_many
     outlines = _expected_outlines(*_centre_rings(batch._replace(mask=core)), labels)
     kind = np.zeros(n, dtype=np.int64)
     ok = shapely.get_type_id(outlines) == 3  # polygons (None: -1)
@@ -253,7 +256,7 @@ def find_defects_many(
     kind[ok] = 1
     is_circle = np.array([x == "circle" for x in labels])
     kind[ok & is_circle] = 2
-    used = np.where(ok, outlines, None)
+    used = np.where(ok, outlines, np.array(None, dtype=object))
     # canvas covering both the mask and the expected outline
     x0, y0, x1, y1 = shapely.bounds(used).T
     lo = np.zeros((n, 2), dtype=np.int64)
@@ -267,7 +270,9 @@ def find_defects_many(
     if (kind == 2).any():
         circles[kind == 2] = shapely.get_coordinates(shapely.centroid(used[kind == 2]))
     cornered = np.array([x in ("square", "rectangle", "triangle") for x in labels])
-    verts, vert_starts = _ragged(np.where(cornered, used, None), n, drop_last=True)
+    verts, vert_starts = _ragged(
+        np.where(cornered, used, np.array(None, dtype=object)), n, drop_last=True
+    )
     obj_area = np.array([g.area for g in geoms], dtype=float)
     small = np.minimum(s.min_area, np.maximum(1.0, 0.1 * obj_area))
     limits = np.stack(

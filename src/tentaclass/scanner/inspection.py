@@ -114,7 +114,28 @@ def _assemble(
         defects.insert(
             0, Defect("broken", 0, bbox, centroid, 0.0, f"object in {n_pieces} separate pieces")
         )
-    holes = [d for d in defects if d.kind == "hole"] if defects else []
+    return _record(g, label, confidence, bbox, centroid, defects)
+
+
+def _placement(
+    mask: np.ndarray, top: int, left: int
+) -> tuple[tuple[int, int, int, int], tuple[float, float]]:
+    """Bounding box and centroid on the belt of an object's mask cropped at (top, left)."""
+    rr, cc = np.nonzero(mask)
+    bbox = (top, left, top + mask.shape[0], left + mask.shape[1])
+    return bbox, (round(float(rr.mean()) + top, 6), round(float(cc.mean()) + left, 6))
+
+
+def _record(
+    g: Geometry,
+    label: str | None,
+    confidence: float,
+    bbox: tuple[int, int, int, int],
+    centroid: tuple[float, float],
+    defects: list[Defect],
+) -> Inspection:
+    """The inspection record of a measured object; accepted when it has no defect."""
+    holes = [d for d in defects if d.kind == "hole"]
     return Inspection(
         label=label,
         confidence=round(confidence, 6),
