@@ -327,6 +327,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--part", choices=["thesis", "mpeg7", "both"], default="both")
     ap.add_argument("--thesis", type=int, default=200, help="thesis test objects")
+    ap.add_argument("--train", type=int, default=4000,
+                    help="thesis training wraps of each kind (hug, quasi-static)")  # fmt: skip
     ap.add_argument("--per-class", type=int, default=2, help="MPEG-7 test silhouettes per class")
     ap.add_argument("--copies", type=int, default=2, help="MPEG-7 training wraps per silhouette")
     ap.add_argument("--quasi-copies", type=int, default=1,
@@ -339,7 +341,7 @@ def main(argv=None):
     out = {}
     with threadpool_limits(1):
         if args.part in ("thesis", "both"):
-            out["thesis"] = thesis(args.thesis, args.jobs, args.arrays)
+            out["thesis"] = thesis(args.thesis, args.jobs, args.arrays, n_train=args.train)
             report("Thesis classes, 16 links", out["thesis"])
         if args.part in ("mpeg7", "both"):
             if not args.mpeg7_folder.is_dir():

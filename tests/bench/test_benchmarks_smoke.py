@@ -64,15 +64,23 @@ def test_bench_physics_smoke(tmp_path, capsys):
     pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
     args = ["--grasps", "1", "--links", "8", "--repeat", "1", "--jobs", "1"]
     out = load("bench_physics").main([*args, "--folder", str(tmp_path / "absent")])
-    assert set(out["best"]) == {"serial", "parallel", "geometric"}
+    assert set(out["best"]) == {"serial", "parallel", "quasi", "geometric"}
     assert "grasps / s" in capsys.readouterr().out
 
 
 def test_physics_agreement_smoke(tmp_path, capsys):
     pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
-    args = ["--mpeg7", "0", "--thesis", "8", "--train", "200", "--jobs", "1"]
-    out = load("physics_agreement").main([*args, "--out", str(tmp_path / "a.json")])
+    out = load("physics_agreement").main(
+        ["--mpeg7", "0", "--jobs", "1", "--out", str(tmp_path / "a.json")]
+    )
     assert set(out["thesis"]) == {"square", "circle", "rectangle", "triangle"}
-    assert out["sim_to_real"]["n"] == 8
     assert (tmp_path / "a.json").exists()
-    assert "chord-shape-nn" in capsys.readouterr().out
+
+
+def test_physics_sim_to_real_smoke(tmp_path, capsys):
+    pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
+    args = ["--part", "thesis", "--thesis", "8", "--train", "120", "--jobs", "1"]
+    out = load("physics_sim_to_real").main([*args, "--out", str(tmp_path / "s.json")])
+    assert (tmp_path / "s.json").exists()
+    assert "TentacleClassifier()" in capsys.readouterr().out
+    assert out["thesis"]

@@ -181,8 +181,8 @@ def _distances(FA, FB, FBm, symmetric, skip_frac, n_starts):
         row = np.empty(N + 1)
         prev = np.empty(N + 1)
         for k in range(2):
-            a = int(task) if k == 0 else int(na - 1 - task)
-            if k == 1 and a == int(task):
+            a = np.int64(task) if k == 0 else np.int64(na - 1 - task)
+            if k == 1 and a == np.int64(task):
                 break
             start = a + 1 if symmetric else 0
             for b in range(start, nb_):
@@ -190,9 +190,9 @@ def _distances(FA, FB, FBm, symmetric, skip_frac, n_starts):
                 d2 = _match(FA[a], FBm[b], C, tmp, score, row, prev, skip_frac, n_starts)
                 D[a, b] = min(d1, d2)
     if symmetric:
-        for a in range(na):
-            for b in range(a + 1, na):
-                D[b, a] = D[a, b]
+        for i in range(na):
+            for j in range(i + 1, na):
+                D[j, i] = D[i, j]
     return D
 
 
