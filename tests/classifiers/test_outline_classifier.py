@@ -58,3 +58,26 @@ def test_query_of_another_length_is_refused():
     clf = OutlineClassifier(random_state=0).fit(X, y)
     with pytest.raises(ValueError, match="features"):
         clf.predict(X[:, :32])
+
+
+# published best accuracy on the official split (MultiRocket+Hydra, HIVE-COTE 2, ...)
+PUBLISHED_BEST = {"ArrowHead": 0.8973, "OSULeaf": 0.9780}
+
+
+@pytest.mark.slow  # OSULeaf: about two minutes of fitting
+@pytest.mark.parametrize("name", ["ArrowHead", "OSULeaf"])
+def test_ahead_of_minirocket_and_near_the_published_best(name):
+    from aeon.classification.convolution_based import MiniRocketClassifier
+    from threadpoolctl import threadpool_limits
+
+    from tentaclass.datasets import ucr_shapes
+
+    d = ucr_shapes(name)
+    train, test = d.split == "train", d.split == "test"
+    with threadpool_limits(1):
+        ours = OutlineClassifier(random_state=0).fit(d.data[train], d.target[train])
+        acc = np.mean(ours.predict(d.data[test]) == d.target[test])
+        peer = MiniRocketClassifier(random_state=0).fit(d.data[train][:, None], d.target[train])
+        acc_peer = np.mean(peer.predict(d.data[test][:, None]) == d.target[test])
+    assert acc >= acc_peer, (acc, acc_peer)
+    assert acc >= PUBLISHED_BEST[name] - 0.02, acc
