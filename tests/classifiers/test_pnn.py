@@ -3,8 +3,9 @@ import pytest
 from scipy.spatial.distance import cdist
 from sklearn.model_selection import GridSearchCV, cross_val_score
 
-import tentaclass.classifiers._pnn as pnn_module
+import tentaclass.classifiers._pnn_core as pnn_module
 from tentaclass.classifiers import FourierClassifier, PNNClassifier
+from tentaclass.classifiers._pnn import auto_spread
 from tentaclass.datasets import thesis_tentacle
 
 
@@ -150,9 +151,7 @@ def test_auto_spread_on_separated_clusters(rng, scale):
     clf = PNNClassifier(spread="auto").fit(X, y)
     assert clf.spread == "auto"
     assert 0.2 * scale < clf.spread_ < 2.0 * scale
-    _, grid, scores = pnn_module.auto_spread(
-        clf.patterns_, np.repeat([0, 1, 2], 60), return_scores=True
-    )
+    _, grid, scores = auto_spread(clf.patterns_, np.repeat([0, 1, 2], 60), return_scores=True)
     k = int(np.argmax(scores))
     assert 0 < k < grid.size - 1  # an interior maximum, not an edge of the grid
     T = (centres[y] + rng.normal(size=(180, 2))) * scale

@@ -59,7 +59,7 @@ def brute_force_procrustes(za, zb, mirror):
 
 @pytest.mark.parametrize("mirror", [True, False])
 def test_shape_distances_equal_brute_force_procrustes(mirror, rng):
-    from tentaclass.classifiers._shift_nn import _closed_polygon
+    from tentaclass.classifiers._shift_core import _closed_polygon
 
     A, B = rng.normal(0.4, 0.2, size=(5, 12)), rng.normal(0.4, 0.2, size=(3, 12))
     clf = ShiftNNClassifier(signal="shape", mirror=mirror).fit(A, np.arange(5))
@@ -79,7 +79,7 @@ def test_shape_signal_ignores_start_direction_rotation_and_link_length():
 
 
 def test_shape_signal_spreads_closure_errors():
-    from tentaclass.classifiers._shift_nn import _closed_polygon
+    from tentaclass.classifiers._shift_core import _closed_polygon
 
     X, _ = thesis_tentacle(64, return_X_y=True)
     noisy = X + np.random.default_rng(3).normal(0, 0.05, X.shape)
@@ -130,7 +130,7 @@ def test_bad_harmonic_options(kwargs, match):
 
 
 def test_chord_closure_matches_a_chain_that_stops_short():
-    from tentaclass.classifiers._shift_nn import _closed_polygon
+    from tentaclass.classifiers._shift_core import _closed_polygon
 
     X, y = thesis_tentacle(64, return_X_y=True)
     short = X[:, :60]  # the last 4 links missing: a straight gap closes the lap

@@ -22,8 +22,18 @@ from threadpoolctl import threadpool_limits
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
-from ..features import LapSplit, fourier_features, last_lap, split_laps
+from ..features import LapSplit, last_lap, split_laps
 from ._shift_nn import ShiftNNClassifier
+from ._tentacle_core import (
+    TentacleCore,
+    _arc_distances,
+    _arc_points,
+    _blend,
+    _class_minima,
+    _spectrum_features,
+    _spectrum_scores,
+    _three_or_more,
+)
 
 __all__ = ["TentacleClassifier"]
 
@@ -37,13 +47,11 @@ _WEIGHTS = (0.0, 0.25, 0.5, 1.0, 2.0)
 _INNER_FOLDS = 3
 #: The spectrum member needs this many training wraps per class (else it is left out).
 _SPECTRUM_MIN_PER_CLASS = 4
-#: Floor of member probabilities before their logarithm is taken.
-_P_FLOOR = 1e-4
 #: Partial arcs cut from training laps to calibrate the partial-wrap matcher.
 _PARTIAL_QUERIES = 100
 
 
-class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
+class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator):
     """Object class from the joint angles of any wrap of a chain of equal links.
 
     The chain may stand off the object (approach links), wrap it partly, once
@@ -256,57 +264,15 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray]:
         """Scaled class distances (n, n_classes), closed flags (n,), laps (n,)."""
         check_is_fitted(self)
-        Xv = validate_data(self, X, dtype=np.float64, reset=False)
-        Xv = _three_or_more(Xv)
-        split = split_laps(Xv, self.n_points)
-        k = len(self.classes_)
-        out = np.empty((len(Xv), k))
-        closed = split.closed
-        if closed.any():
-            out[closed] = self._closed_scores(Xv[closed], split.lap[closed]) / self.scale_
-        rows = np.flatnonzero(~closed)
-        if rows.size:
-            heads = np.cumsum(split.lap[rows], axis=1)
-            ms = np.array([_arc_points(split.laps[r], self.n_points) for r in rows])
-            d = np.empty((rows.size, len(self.headings_)))
-            for m in np.unique(ms):
-                sel = np.flatnonzero(ms == m)
-                d[sel] = _arc_distances(_resample_rows(heads[sel], m), self.headings_)
-            out[rows] = _class_minima(d, self.arc_labels_, k) / self.partial_scale_
-        return out, closed, split.laps
-
-    def _closed_scores(self, X: FloatArray, laps: FloatArray) -> FloatArray:
-        """Blended member scores of wraps with a full lap, before the final scale."""
-        k = len(self.classes_)
-        d = np.sqrt(self.matcher_.shift_distances(laps))
-        s_lap = _class_minima(d, self.matcher_.labels_, k) / self.lap_scale_
-        s_exact = s_spec = None
-        if self.weights_[1] > 0:
-            d = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
-            s_exact = _class_minima(d, self.exact_.labels_, k) / self.exact_scale_
-        if self.weights_[2] > 0:
-            s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
-        return _blend(s_lap, s_exact, s_spec, self.weights_)
+        return self._checked_scores(validate_data(self, X, dtype=np.float64, reset=False))
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Calibrated class probabilities, shape (n_samples, n_classes); rows sum to 1."""
-        s, closed, _ = self._scores(X)
-        t = np.where(closed, self.temperature_, self.partial_temperature_)[:, None]
-        return softmax(-s / t, axis=1)
+        return self._proba_of(*self._scores(X)[:2])
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of each wrap; ``unknown_label`` where rejected (see ``reject``)."""
-        s, closed, _ = self._scores(X)
-        pred = self.classes_[np.argmin(s, axis=1)]
-        far = np.where(closed, self.reject_distance_, self.partial_reject_distance_)
-        near = np.where(closed, self.reject_margin_, self.partial_reject_margin_)
-        ordered = np.sort(s, axis=1)
-        margin = ordered[:, 1] - ordered[:, 0] if s.shape[1] > 1 else np.full(len(s), np.inf)
-        unknown = (ordered[:, 0] > far) | (margin < near)
-        if unknown.any():
-            pred = pred.astype(object)
-            pred[unknown] = self.unknown_label
-        return pred
+        return self._labels_of(*self._scores(X)[:2])
 
     def grasp(self, X: ArrayLike) -> dict:
         """Grasp state, laps seen and the best guess with its probability, per wrap.
@@ -338,11 +304,6 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
 
 
 # ---------------------------------------------------------------------- helpers
-def _three_or_more(X: FloatArray) -> FloatArray:
-    """Arrays of fewer than 3 joints (no outline) get each turn split over 3 joints."""
-    return np.repeat(X, 3, axis=1) / 3 if X.shape[1] < 3 else X
-
-
 def _lap_views(
     X: FloatArray, split: LapSplit, n_points: int, n_views: int
 ) -> tuple[FloatArray, np.ndarray]:
@@ -369,17 +330,6 @@ def _lap_views(
     return np.concatenate(views), np.concatenate(owner)
 
 
-def _spectrum_features(X: FloatArray) -> FloatArray:
-    """``|DFT|`` of the last lap (detrended) next to ``|DFT|`` of the whole array.
-
-    The whole array sees part of the object a second time from other joint
-    positions: with few links per lap its spectrum tells corners the last lap
-    cuts (a square from a circle).
-    """
-    lap = last_lap(X)[0]
-    return np.hstack([fourier_features(lap, detrend=True), np.abs(np.fft.rfft(X, axis=1))])
-
-
 def _spectrum_model() -> Pipeline:
     return make_pipeline(StandardScaler(), MLPClassifier((64,), max_iter=400, random_state=0))
 
@@ -389,14 +339,6 @@ def _fit_spectrum(features: FloatArray, y: np.ndarray) -> Pipeline:
     with warnings.catch_warnings(), threadpool_limits(1, user_api="blas"):
         warnings.simplefilter("ignore", ConvergenceWarning)
         return _spectrum_model().fit(features, y)
-
-
-def _spectrum_scores(model: Pipeline, features: FloatArray, n_classes: int) -> FloatArray:
-    """Negative log probabilities of the spectrum member, (n, n_classes)."""
-    p = np.full((len(features), n_classes), 0.0)
-    with threadpool_limits(1, user_api="blas"):
-        p[:, model.classes_] = model.predict_proba(features)
-    return -np.log(np.maximum(p, _P_FLOOR))
 
 
 def _held_out_spectrum(
@@ -411,20 +353,6 @@ def _held_out_spectrum(
             continue
         model = _fit_spectrum(features[train], y[train])
         out[sel] = _spectrum_scores(model, features[q[sel]], n_classes)
-    return out
-
-
-def _blend(
-    s_lap: FloatArray,
-    s_exact: FloatArray | None,
-    s_spec: FloatArray | None,
-    weights: FloatArray,
-) -> FloatArray:
-    """Weighted sum of the members' class scores (members of weight 0 left out)."""
-    out = weights[0] * s_lap
-    for w, s in ((weights[1], s_exact), (weights[2], s_spec)):
-        if w > 0 and s is not None:
-            out = out + w * s
     return out
 
 
@@ -473,16 +401,6 @@ def _subset(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
     return np.sort(rng.choice(n, k, replace=False)) if n > k else np.arange(n)
 
 
-def _class_minima(d: FloatArray, labels: np.ndarray, n_classes: int) -> FloatArray:
-    """Per query, the smallest distance to each class (inf where a class has none)."""
-    out = np.full((len(d), n_classes), np.inf)
-    for c in range(n_classes):
-        cols = labels == c
-        if cols.any():
-            out[:, c] = d[:, cols].min(axis=1)
-    return out
-
-
 def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float, ...]:
     """Scale, softmax temperature and rejection limits from leave-one-out class distances.
 
@@ -514,19 +432,6 @@ def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float,
     return scale, t, far, near
 
 
-def _arc_points(laps: float, n_points: int) -> int:
-    """Points of the averaged lap a partial arc of ``laps`` laps covers."""
-    return int(np.clip(np.rint(laps * n_points), 3, n_points))
-
-
-def _resample_rows(h: FloatArray, m: int) -> FloatArray:
-    """Rows sampled at the centres of ``n`` equal cells, resampled to ``m`` cells."""
-    n = h.shape[1]
-    x_old = (np.arange(n) + 0.5) / n
-    x_new = (np.arange(m) + 0.5) / m
-    return np.array([np.interp(x_new, x_old, row) for row in h])
-
-
 def _cut_arc_distances(
     queries: FloatArray, heads: FloatArray, rng: np.random.Generator
 ) -> FloatArray:
@@ -541,32 +446,3 @@ def _cut_arc_distances(
         arcs = np.stack([ext[i, ks[i] : ks[i] + m] for i in sel])
         d[sel] = _arc_distances(arcs, heads)
     return d
-
-
-def _arc_distances(arc: FloatArray, heads: FloatArray, chunk: int = 8) -> FloatArray:
-    """RMS heading distance of arcs to the best stretch of each training lap.
-
-    ``arc`` (g, m) heading functions of partial wraps, ``heads`` (t, n) of
-    closed laps (one turn each). Each arc is compared with the ``m``
-    consecutive samples from every start ``k`` of every lap (one turn added
-    past the end), up to a constant (the object's rotation); all starts at
-    once by FFT cross-correlation.
-    """
-    g, m = arc.shape
-    t, n = heads.shape
-    ext = np.concatenate([heads, heads[:, :m] + 2 * np.pi], axis=1)  # (t, n + m)
-    length = n + m
-    c1 = np.concatenate([np.zeros((t, 1)), np.cumsum(ext, axis=1)], axis=1)
-    c2 = np.concatenate([np.zeros((t, 1)), np.cumsum(ext**2, axis=1)], axis=1)
-    wsum = c1[:, m : m + n] - c1[:, :n]
-    wnorm = (c2[:, m : m + n] - c2[:, :n]) - wsum**2 / m  # (t, n): centred window norms
-    a = arc - arc.mean(axis=1, keepdims=True)
-    anorm = np.sum(a**2, axis=1)
-    spec = np.fft.rfft(ext, length, axis=1)
-    out = np.empty((g, t))
-    for lo in range(0, g, chunk):
-        fa = np.conj(np.fft.rfft(a[lo : lo + chunk], length, axis=1))
-        corr = np.fft.irfft(spec[None] * fa[:, None], length, axis=2)[:, :, :n]
-        d2 = anorm[lo : lo + chunk, None, None] + wnorm[None] - 2 * corr
-        out[lo : lo + chunk] = np.sqrt(np.maximum(d2.min(axis=2), 0.0) / m)
-    return out

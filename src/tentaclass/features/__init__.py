@@ -10,12 +10,21 @@ from .outline import SIGNATURES, outline_to_series, znormalize
 from .turning import canonical_direction, periodic_signal, turning_function
 
 if TYPE_CHECKING:
+    from ._transform_core import AngleSpectrumCore as AngleSpectrumCore
+    from ._transform_core import FourierFeaturesCore as FourierFeaturesCore
+    from ._transform_core import LastLapCore as LastLapCore
     from .transformers import AngleSpectrum, FourierFeatures, LastLap
 
-# the scikit-learn transformers load scikit-learn on first use
+# the scikit-learn transformers load scikit-learn on first use; their cores
+# (not public: what they compute, free of scikit-learn) serve model files
 __getattr__, __dir__ = lazy_exports(
     __name__,
-    dict.fromkeys(["AngleSpectrum", "FourierFeatures", "LastLap"], "transformers"),
+    {
+        **dict.fromkeys(["AngleSpectrum", "FourierFeatures", "LastLap"], "transformers"),
+        **dict.fromkeys(
+            ["AngleSpectrumCore", "FourierFeaturesCore", "LastLapCore"], "_transform_core"
+        ),
+    },
     globals(),
 )
 

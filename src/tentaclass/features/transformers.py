@@ -18,13 +18,12 @@ from .._deprecation import DEPRECATED, renamed_attribute, renamed_param
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_finite_float, check_frequency_count, check_positive_int, check_X
 from ..errors import InputError
-from .fourier import fourier_features
-from .lap import last_lap
+from ._transform_core import AngleSpectrumCore, FourierFeaturesCore, LastLapCore
 
 __all__ = ["AngleSpectrum", "FourierFeatures", "LastLap"]
 
 
-class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
+class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles -> ``|DFT|`` of the periodic turning signal, as a transformer.
 
     Parameters
@@ -119,12 +118,7 @@ class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_X(self, X, dtype=np.float64, reset=False)
-        features = fourier_features(
-            X, self.n_harmonics_, detrend=self.detrend, normalize=self.normalize
-        )
-        if self.weight_power:
-            features *= np.arange(1, self.n_harmonics_ + 1) ** float(self.weight_power)
-        return features
+        return self._transform(X)
 
     def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
         """Names ``fourier1 .. fourierK`` of the output columns."""
@@ -132,7 +126,7 @@ class FourierFeatures(DaskMixin, TransformerMixin, BaseEstimator):
         return np.array([f"fourier{k}" for k in range(1, self.n_harmonics_ + 1)], dtype=object)
 
 
-class LastLap(DaskMixin, TransformerMixin, BaseEstimator):
+class LastLap(LastLapCore, DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles of any wrap -> its last full lap as a closed array.
 
     A transformer around :func:`tentaclass.features.last_lap`: removes the
@@ -185,10 +179,10 @@ class LastLap(DaskMixin, TransformerMixin, BaseEstimator):
         """The last lap of each row, shape (n_samples, n_out_)."""
         check_is_fitted(self)
         X = check_X(self, X, dtype=np.float64, reset=False)
-        return last_lap(X, self.n_out_)[0]
+        return self._transform(X)
 
 
-class AngleSpectrum(DaskMixin, TransformerMixin, BaseEstimator):
+class AngleSpectrum(AngleSpectrumCore, DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles -> ``|DFT|`` of the angle array itself, as a transformer.
 
     Where :class:`FourierFeatures` describes one closed lap, this describes the
@@ -264,7 +258,7 @@ class AngleSpectrum(DaskMixin, TransformerMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = check_X(self, X, dtype=np.float64, reset=False)
-        return np.abs(np.fft.rfft(X, axis=1)[:, : self.n_harmonics_]) / X.shape[1]
+        return self._transform(X)
 
     def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
         """Names ``spectrum0 .. spectrumK-1`` of the output columns."""
