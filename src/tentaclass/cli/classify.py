@@ -32,11 +32,20 @@ def default_model(n_links: int) -> Any:
 
 
 def model_from_file(path: Path) -> tuple[Any, dict]:
-    """A model of joint angles from a ``.tcm`` file, and its info."""
+    """A model of joint angles from a ``.tcm`` file, and its info.
+
+    Models the light reader covers predict without importing scikit-learn
+    (:func:`tentaclass.io._light.load_light`); others are loaded in full.
+    """
+    from ..io._light import load_light
+
+    light, info = load_light(path)
+    if light is not None:
+        return light, info
     from sklearn.pipeline import Pipeline
 
     from ..classifiers import FourierClassifier, TentacleClassifier
-    from ..io import load_model, model_info
+    from ..io import load_model
 
     model = load_model(path)
     if not isinstance(model, TentacleClassifier | FourierClassifier | Pipeline):
@@ -45,7 +54,7 @@ def model_from_file(path: Path) -> tuple[Any, dict]:
             "a model of joint angles (from 'tentaclass train', a TentacleClassifier or a "
             "FourierClassifier)"
         )
-    return model, model_info(path)
+    return model, info
 
 
 def _read_stdin() -> np.ndarray:
@@ -73,10 +82,10 @@ def _check_wraps(X: np.ndarray) -> None:
 
 
 def _bundled_or_reference(n_links: int) -> tuple[Any, dict]:
-    from ..io import bundled_links, bundled_model
+    from ..io._deploy import bundled_links, bundled_predictor
 
     if n_links in bundled_links():
-        return bundled_model(n_links)
+        return bundled_predictor(n_links)
     links = ", ".join(map(str, bundled_links()))
     click.echo(
         f"note: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
@@ -158,7 +167,7 @@ def classify(
         check_chain_length(X, info, n_in if isinstance(n_in, int) else X.shape[1], name)
     labels = model.predict(X).astype(object)
     proba = model.predict_proba(X)
-    own = model.get_params(deep=False).get("reject", None) if hasattr(model, "reject") else None
+    own = getattr(model, "reject", None)
     if own is not None and reject_below is None:
         # a recogniser that rejects by itself answers "unknown" in predict already
         if reject and not own:

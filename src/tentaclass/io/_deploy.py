@@ -51,6 +51,22 @@ def _load_bundled(n_links: int) -> tuple[Any, dict]:
         return load_model(path), model_info(path)
 
 
+@lru_cache(maxsize=8)
+def bundled_predictor(n_links: int) -> tuple[Any, dict]:
+    """:func:`bundled_model` for prediction only, read without scikit-learn when it can be.
+
+    The model :func:`~tentaclass.io._light.load_light` reads (predicting
+    exactly as the bundled model), else the bundled model itself.
+    """
+    from ._light import load_light
+
+    if n_links not in bundled_links():
+        return bundled_model(n_links)  # the error naming the bundled chains
+    with as_file(files("tentaclass.data") / f"default-{n_links}.tcm") as path:
+        light, info = load_light(path)
+    return (light, info) if light is not None else bundled_model(n_links)
+
+
 def bundled_model(n_links: int) -> tuple[Any, dict]:
     """The shipped model of the four thesis classes for a chain of ``n_links`` links.
 
@@ -133,11 +149,10 @@ def check_chain_length(X: ArrayLike, info: dict, n_features_in: int, name: str =
 
 def _final_scorer(model: Any) -> tuple[list, Any]:
     """The transform steps before the final classifier, and that classifier."""
-    from sklearn.pipeline import Pipeline
-
     inner = getattr(model, "pipeline_", model)
-    if isinstance(inner, Pipeline):
-        return [step for _, step in inner.steps[:-1]], inner.steps[-1][1]
+    steps = getattr(inner, "steps", None)  # a Pipeline, or the light reader's
+    if isinstance(steps, list) and steps:
+        return [step for _, step in steps[:-1]], steps[-1][1]
     return [], inner
 
 

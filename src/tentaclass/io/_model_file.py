@@ -654,6 +654,11 @@ def model_info(path: str | os.PathLike) -> dict:
     (16, 'Pipeline')
     """
     meta, _, path = _open(path)
+    return info_from_metadata(meta, path)
+
+
+def info_from_metadata(meta: dict, path: Path) -> dict:
+    """What :func:`model_info` returns, from the metadata of the file at ``path``."""
     info = meta.get("info", {})
     if not isinstance(info, dict):
         raise ModelFileError(f"{path}: metadata: info must be an object")
