@@ -174,6 +174,18 @@ def test_auto_spread_ignores_duplicates_and_stays_finite():
     assert clf.spread_ > 0
 
 
+@pytest.mark.parametrize("spacing", [1e-155, 1e-149])
+def test_auto_spread_on_patterns_closer_than_the_smallest_spread(spacing):
+    # patterns closer than MIN_SPREAD count as duplicates, so the spread never
+    # falls below it: 1e-155 apart once overflowed the kernel width in fit
+    X = np.array([[0.0], [1.0], [2.0], [3.0]]) * spacing
+    clf = PNNClassifier(spread="auto").fit(X, [0, 0, 1, 1])
+    assert pnn_module.MIN_SPREAD <= clf.spread_ < np.inf
+    assert np.isfinite(clf.predict_proba(X)).all()
+    if spacing > pnn_module.MIN_SPREAD:  # told apart when the spread can resolve them
+        assert clf.predict(X).tolist() == [0, 0, 1, 1]
+
+
 def test_rejection_gives_unknown_instead_of_forced_class():
     X, y = thesis_tentacle(16, return_X_y=True)
     clf = FourierClassifier(spread=1.0, reject_below=1e-3).fit(X, y)

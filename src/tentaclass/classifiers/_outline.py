@@ -18,13 +18,12 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import log_softmax
 from sklearn.utils import check_random_state
-from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import validate_data
 
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
 from ..features.outline import znormalize
-from ._base import BaseProbabilisticClassifier
+from ._base import BaseProbabilisticClassifier, class_indices
 from ._shift_nn import ShiftNNClassifier
 
 if TYPE_CHECKING:
@@ -183,10 +182,7 @@ class OutlineClassifier(BaseProbabilisticClassifier):
         from sklearn.linear_model import RidgeClassifier, RidgeClassifierCV
 
         X, y = validate_data(self, X, y, dtype=np.float64)
-        check_classification_targets(y)
-        self.classes_, yi = np.unique(y, return_inverse=True)
-        if len(self.classes_) < 2:
-            raise InputError(f"y holds one class ({self.classes_[0]!r}); at least 2 are needed")
+        self.classes_, yi = class_indices(y)
         Z = self._prepare(X)
         rng = check_random_state(self.random_state)
         A = self._augment(Z, rng)

@@ -10,12 +10,10 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from sklearn.utils.multiclass import check_classification_targets
 
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_fraction, check_spread, check_X_y
-from ..errors import InputError
-from ._base import BaseProbabilisticClassifier
+from ._base import BaseProbabilisticClassifier, class_indices
 from ._pnn_core import MAX_BLOCK_BYTES, NEWPNN_BIAS, PNNCore
 
 __all__ = ["MAX_BLOCK_BYTES", "NEWPNN_BIAS", "PNNClassifier"]
@@ -36,6 +34,36 @@ def _sq_dist(a: FloatArray, b: FloatArray, b_sq: FloatArray) -> FloatArray:
     d += b_sq
     d += np.einsum("ij,ij->i", a, a)[:, None]
     return np.maximum(d, 0.0, out=d)
+
+
+def _evenly(n: int, most: int) -> np.ndarray:
+    """At most ``most`` indices of ``range(n)``, evenly spaced, first and last included."""
+    return np.unique(np.linspace(0, n - 1, min(n, most)).round().astype(int))
+
+
+def _median_nn(A: FloatArray, a_sq: FloatArray | None = None) -> float:
+    """Median distance from a row of ``A`` to its nearest distinct other row (1.0 if none).
+
+    At most ``_AUTO_MAX_QUERIES`` rows (evenly spaced) are queried against
+    all rows, in blocks of bounded size. Rows closer than the rounding of the
+    distance formula (relative ``1e-12``, absolute ``1e-150``) count as
+    duplicates and are ignored. ``a_sq`` holds the squared norms of the rows,
+    if already at hand.
+    """
+    if a_sq is None:
+        a_sq = np.einsum("ij,ij->i", A, A)
+    queries = _evenly(A.shape[0], _AUTO_MAX_QUERIES)
+    step = max(1, (32 * 2**20) // (8 * A.shape[0]))
+    nn = []
+    for lo in range(0, queries.size, step):
+        rows = queries[lo : lo + step]
+        d = _sq_dist(A[rows], A, a_sq)
+        d[d <= 1e-12 * (a_sq[rows][:, None] + a_sq[None, :]) + 1e-300] = np.inf
+        nn.append(np.sqrt(d.min(axis=1)))
+    nn = np.concatenate(nn)
+    nn = nn[np.isfinite(nn)]
+    d_nn = float(np.median(nn)) if nn.size else 1.0
+    return d_nn if 0 < d_nn < np.inf else 1.0
 
 
 def auto_spread(X: FloatArray, y_idx: np.ndarray, *, return_scores: bool = False) -> Any:
@@ -65,23 +93,10 @@ def auto_spread(X: FloatArray, y_idx: np.ndarray, *, return_scores: bool = False
     grid, scores : ndarray of shape (n_grid,)
         Only with ``return_scores``.
     """
-    n = X.shape[0]
     X = X - X.mean(axis=0)
     sq = np.einsum("ij,ij->i", X, X)
-    queries = np.unique(np.linspace(0, n - 1, min(n, _AUTO_MAX_QUERIES)).round().astype(int))
-    rows = max(1, (32 * 2**20) // (8 * n))
-    # median distance to the nearest distinct pattern (duplicates ignored)
-    nn = []
-    for lo in range(0, queries.size, rows):
-        q = queries[lo : lo + rows]
-        d = _sq_dist(X[q], X, sq)
-        d[d <= 1e-12 * (sq[q][:, None] + sq[None, :] + 1e-300)] = np.inf
-        nn.append(d.min(axis=1))
-    nn = np.sqrt(np.concatenate(nn))
-    nn = nn[np.isfinite(nn)]
-    d_nn = float(np.median(nn)) if nn.size else 1.0
-    if d_nn <= 0 or not np.isfinite(d_nn):
-        d_nn = 1.0
+    queries = _evenly(X.shape[0], _AUTO_MAX_QUERIES)
+    d_nn = _median_nn(X, sq)
     grid = d_nn * _AUTO_GRID
     counts = np.bincount(y_idx)
     scores = np.zeros(grid.size)
@@ -221,10 +236,7 @@ class PNNClassifier(PNNCore, BaseProbabilisticClassifier):
         """
         self._validate_params()
         X, y = check_X_y(self, X, y, dtype=np.float64)
-        check_classification_targets(y)
-        classes, y_idx = np.unique(y, return_inverse=True)
-        if classes.size < 2:
-            raise InputError(f"y must hold at least 2 classes, got 1 class: {classes.tolist()}")
+        classes, y_idx = class_indices(y)
         order = np.argsort(y_idx, kind="stable")
         self.classes_ = classes
         self.patterns_ = X[order]

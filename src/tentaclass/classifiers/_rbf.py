@@ -7,13 +7,12 @@ import numbers
 import numpy as np
 from sklearn.cluster import KMeans
 from sklearn.utils import check_random_state
-from sklearn.utils.multiclass import check_classification_targets
 
 from .._typing import ArrayLike, FloatArray
 from .._validation import check_positive_float, check_spread, check_X_y
 from ..errors import InputError
-from ._base import BaseProbabilisticClassifier
-from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _sq_dist
+from ._base import BaseProbabilisticClassifier, class_indices
+from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _evenly, _median_nn, _sq_dist
 
 __all__ = ["RBFNetworkClassifier"]
 
@@ -38,30 +37,6 @@ def _design(X: FloatArray, centers: FloatArray, spread: float) -> FloatArray:
     d = _sq_dist(X, centers, np.einsum("ij,ij->i", centers, centers))
     d *= -((NEWPNN_BIAS / spread) ** 2)
     return np.exp(d, out=d)
-
-
-def _evenly(n: int, most: int) -> np.ndarray:
-    """At most ``most`` indices of ``range(n)``, evenly spaced, first and last included."""
-    return np.unique(np.linspace(0, n - 1, min(n, most)).round().astype(int))
-
-
-def _median_nn(A: FloatArray) -> float:
-    """Median distance to the nearest distinct other row (1.0 if none).
-
-    Queries are at most 1000 rows (evenly spaced) against all rows, in blocks.
-    """
-    a_sq = np.einsum("ij,ij->i", A, A)
-    q = _evenly(A.shape[0], 1000)
-    step = max(1, (32 * 2**20) // (8 * A.shape[0]))
-    nn = []
-    for lo in range(0, q.size, step):
-        rows = q[lo : lo + step]
-        d = _sq_dist(A[rows], A, a_sq)
-        d[d <= 1e-12 * (a_sq[rows][:, None] + a_sq[None, :]) + 1e-300] = np.inf
-        nn.append(np.sqrt(d.min(axis=1)))
-    nn = np.concatenate(nn)
-    nn = nn[np.isfinite(nn)]
-    return float(np.median(nn)) if nn.size else 1.0
 
 
 def _ridge(Phi: FloatArray, Y: FloatArray, alpha: float) -> tuple[FloatArray, FloatArray]:
@@ -251,11 +226,8 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         """
         self._validate_params()
         X, y = check_X_y(self, X, y, dtype=np.float64)
-        check_classification_targets(y)
+        classes, y_idx = class_indices(y)
         rng = check_random_state(self.random_state)
-        classes, y_idx = np.unique(y, return_inverse=True)
-        if classes.size < 2:
-            raise InputError(f"y must hold at least 2 classes, got 1 class: {classes.tolist()}")
         Y = np.eye(classes.size)[y_idx]
         n = X.shape[0]
         k = min(n, 100) if self.n_centers is None else min(int(self.n_centers), n)

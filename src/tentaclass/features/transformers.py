@@ -23,6 +23,17 @@ from ._transform_core import AngleSpectrumCore, FourierFeaturesCore, LastLapCore
 __all__ = ["AngleSpectrum", "FourierFeatures", "LastLap"]
 
 
+def _check_joint_angles(estimator: BaseEstimator, X: ArrayLike) -> FloatArray:
+    """``X`` checked for ``fit``: rows of at least 2 joint angles (a closed chain)."""
+    X = check_X(estimator, X, dtype=np.float64)
+    if X.shape[1] < 2:
+        raise InputError(
+            f"X must hold at least 2 joint angles per row, got {X.shape[1]} feature(s) "
+            f"(shape {X.shape})"
+        )
+    return X
+
+
 class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEstimator):
     """Joint angles -> ``|DFT|`` of the periodic turning signal, as a transformer.
 
@@ -93,12 +104,8 @@ class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEsti
         -------
         self : FourierFeatures
         """
-        X = check_X(self, X, dtype=np.float64)
+        X = _check_joint_angles(self, X)
         n = X.shape[1]
-        if n < 2:
-            raise InputError(
-                f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
-            )
         k = renamed_param(self, "n_harmonics", "n_coeffs")
         k = n // 2 if k is None else k
         self.n_harmonics_ = check_frequency_count(k, n // 2, "n_harmonics", "floor(n_joints / 2)")
@@ -164,12 +171,8 @@ class LastLap(LastLapCore, DaskMixin, TransformerMixin, BaseEstimator):
         -------
         self : LastLap
         """
-        X = check_X(self, X, dtype=np.float64)
+        X = _check_joint_angles(self, X)
         n = X.shape[1]
-        if n < 2:
-            raise InputError(
-                f"X must hold at least 2 joint angles per row, got {n} feature(s) (shape {X.shape})"
-            )
         self.n_out_ = (
             n if self.n_out is None else check_positive_int(self.n_out, "n_out", minimum=2)
         )

@@ -238,6 +238,18 @@ class _Sim:
         last = self.d.xpos[b, :2] + self.chain.link_lengths[-1] * self.d.xmat[b, [0, 3]]
         return np.vstack([xa, last])
 
+    def _look(self, steps: int) -> int:
+        """Simulate until the controller's next look; the step count then.
+
+        Records the joints when a frame is due.
+        """
+        nstep = self.ctrl.control_steps
+        self.mj.mj_step(self.m, self.d, nstep=nstep)
+        steps += nstep
+        if self.rec and steps % (self.rec * nstep) == 0:
+            self.frames.append(self.joints())
+        return steps
+
     def run(self, time_limit: float) -> tuple[str, int]:
         c, dt = self.ctrl, self.m.opt.timestep
         period = c.control_steps * dt
@@ -262,11 +274,8 @@ class _Sim:
             while True:
                 target += self.omega[k] * period
                 self._lock(k, target, drive=True)
-                self.mj.mj_step(self.m, self.d, nstep=c.control_steps)
-                steps += c.control_steps
+                steps = self._look(steps)
                 t_k += period
-                if self.rec and steps % (self.rec * c.control_steps) == 0:
-                    self.frames.append(self.joints())
                 if not np.all(np.isfinite(self.d.qpos)):
                     return f"the simulation diverged at joint {k}", steps
                 if self.d.time > time_limit:
@@ -294,11 +303,8 @@ class _Sim:
             self.d.ctrl[k] = c.torque * (self.n - k)
         t_settle, still = 0.0, 0
         while still < need:
-            self.mj.mj_step(self.m, self.d, nstep=c.control_steps)
-            steps += c.control_steps
+            steps = self._look(steps)
             t_settle += period
-            if self.rec and steps % (self.rec * c.control_steps) == 0:
-                self.frames.append(self.joints())
             if not np.all(np.isfinite(self.d.qpos)):
                 return "the simulation diverged while settling", steps
             still = still + 1 if np.max(np.abs(self.d.qvel)) < c.rest_speed else 0
