@@ -177,8 +177,10 @@ def flatten_masks(masks: Sequence[np.ndarray]) -> MaskBatch:
 
 def polygons_from_rings(coords: np.ndarray, ring_starts: np.ndarray) -> np.ndarray:
     """Shapely polygons of closed rings stored one after the other (``ring_starts``)."""
-    index = np.repeat(np.arange(ring_starts.size - 1), np.diff(ring_starts))
-    return shapely.polygons(shapely.linearrings(coords, indices=index))
+    n = ring_starts.size - 1
+    return shapely.from_ragged_array(
+        shapely.GeometryType.POLYGON, coords, (ring_starts, np.arange(n + 1))
+    )
 
 
 def rectangles_of_rings(
@@ -193,7 +195,8 @@ def rectangles_of_rings(
     compiled copy of its algorithm and arithmetic.
     """
     corners = min_area_rectangles(coords, ring_starts)
-    return corners, shapely.polygons(corners)
+    n = corners.shape[0]
+    return corners, polygons_from_rings(corners.reshape(5 * n, 2), np.arange(0, 5 * n + 1, 5))
 
 
 def _rectangle_sides(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
