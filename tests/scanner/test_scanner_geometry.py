@@ -130,6 +130,13 @@ def test_double_double_orientation_decides_what_the_fast_test_cannot():
     )
 
 
+def test_line_intersection_is_exact_and_none_for_parallel_lines():
+    from tentaclass.scanner._geometry import _line_intersection
+
+    assert _line_intersection(0.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0) == (1.0, 1.0)
+    assert np.isnan(_line_intersection(0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0)).all()
+
+
 def test_chord_walk_angles_are_the_numpy_pipelines_to_the_last_bit():
     from tentaclass.geometry import points_to_angles, resample_closed
     from tentaclass.scanner._geometry import chord_turns

@@ -825,7 +825,7 @@ def _dd_mul(hi, lo, yhi, ylo):
     return zhi, c + (p - zhi)
 
 
-@nb.njit(**_OPTS)
+@nb.njit(error_model="numpy", **_OPTS)  # x / 0 is inf or NaN (parallel lines), as in C
 def _dd_div(hi, lo, yhi, ylo):
     q = hi / yhi
     p, err = _two_product(q, yhi)
@@ -889,7 +889,10 @@ def _line_intersection(p1x, p1y, p2x, p2y, q1x, q1y, q2x, q2y):
     w = _dd_det(px[0], px[1], qy[0], qy[1], qx[0], qx[1], py[0], py[1])
     xi = _dd_div(x[0], x[1], w[0], w[1])
     yi = _dd_div(y[0], y[1], w[0], w[1])
-    return xi[0] + xi[1], yi[0] + yi[1]
+    xi, yi = xi[0] + xi[1], yi[0] + yi[1]
+    if not (np.isfinite(xi) and np.isfinite(yi)):  # parallel lines: GEOS's null coordinate
+        return np.nan, np.nan
+    return xi, yi
 
 
 @nb.njit(**_OPTS)
