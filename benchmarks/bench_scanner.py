@@ -122,7 +122,9 @@ def opencv_pipeline(image: np.ndarray, model, n_harmonics: int) -> np.ndarray:
         if len(outer) > 3:
             try:
                 d = cv2.convexityDefects(outer, cv2.convexHull(outer, returnPoints=False))
-                deepest = float(d.reshape(-1, 4)[:, 3].max()) / 256 if d is not None else 0.0
+                deepest = (
+                    float(d.reshape(-1, 4)[:, 3].max()) / 256 if d is not None and d.size else 0.0
+                )
             except cv2.error:
                 pass
         long, short = max(rw, rh) + 1, min(rw, rh) + 1

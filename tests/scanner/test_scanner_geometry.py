@@ -95,3 +95,56 @@ def test_bounding_radius_is_shapelys_to_the_last_bit(corners):
     starts = np.r_[0, np.cumsum([len(r) - 1 for r in rings])]
     ours = bounding_radii(np.concatenate([r[:-1] for r in rings]), starts)
     assert np.array_equal(ours, shapely.minimum_bounding_radius(polys))
+
+
+def _hull_rings(corners, n=600, seed=11):
+    from tentaclass.scanner._geometry import mask_hull
+
+    rings = [mask_hull(m, corners) for m in _masks(n=n, seed=seed)]
+    return [r for r in rings if len(r) >= 4]
+
+
+@pytest.mark.parametrize("corners", [True, False])
+def test_rotated_rectangle_is_shapelys_to_the_last_bit(corners):
+    from tentaclass.scanner.descriptors import rectangles_of_rings
+
+    rings = _hull_rings(corners)
+    starts = np.r_[0, np.cumsum([len(r) for r in rings])]
+    xy, rects = rectangles_of_rings(np.concatenate(rings), starts)
+    ref = shapely.oriented_envelope([shapely.polygons(r) for r in rings])
+    ref_xy = shapely.get_coordinates(ref).reshape(-1, 5, 2)
+    assert np.array_equal(xy, ref_xy)
+    assert np.array_equal(np.signbit(xy), np.signbit(ref_xy))  # down to the zeros' signs
+    assert shapely.equals_exact(rects, ref, tolerance=0).all()
+
+
+def test_double_double_orientation_decides_what_the_fast_test_cannot():
+    from tentaclass.scanner._geometry import _orientation
+
+    # nearly collinear: the double determinant is lost in rounding, the exact sign is not
+    assert _orientation(0.0, 0.0, 1.0, 1.0, 0.5, 0.5) == 0
+    assert _orientation(0.0, 0.0, 1.0, 1.0, 0.5, 0.5 + 2**-52) == 1
+    assert _orientation(0.0, 0.0, 1.0, 1.0, 0.5, 0.5 - 2**-53) == -1
+    assert _orientation(0.1, 0.1, 0.3, 0.3, 0.7, 0.7 + 1e-17) == _orientation(
+        0.1, 0.1, 0.3, 0.3, 0.7, 0.7
+    )
+
+
+def test_line_intersection_is_exact_and_none_for_parallel_lines():
+    from tentaclass.scanner._geometry import _line_intersection
+
+    assert _line_intersection(0.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0) == (1.0, 1.0)
+    assert np.isnan(_line_intersection(0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0)).all()
+
+
+def test_chord_walk_angles_are_the_numpy_pipelines_to_the_last_bit():
+    from tentaclass.geometry import points_to_angles, resample_closed
+    from tentaclass.scanner._geometry import chord_turns
+
+    rings = [r[:-1] for r in _hull_rings(True, seed=3)]
+    starts = np.r_[0, np.cumsum([len(r) for r in rings])]
+    cross, dot, bad = chord_turns(np.concatenate(rings), starts, 64)
+    assert not bad
+    ours = np.arctan2(cross, dot)
+    for r, q in zip(rings, ours, strict=True):
+        assert np.array_equal(q, points_to_angles(resample_closed(r[None], 64), closed=True)[0])

@@ -46,3 +46,23 @@ def test_inspected_objects_are_unchanged(stored):
     )
     got = [json.dumps(r.to_dict()) for r in inspect_many(objs.grids)]
     assert got == stored["inspect_many"]
+
+
+def test_fast_record_constructors_give_the_dataclasses():
+    from tentaclass.scanner.records import (
+        Defect,
+        Inspection,
+        ScannedObject,
+        new_defect,
+        new_inspection,
+        new_scanned,
+    )
+
+    d = ("hole", 2, (1, 2, 3, 3), (1.5, 2.0), 0.0, "hole of 2 px")
+    assert new_defect(*d) == Defect(*d)
+    i = ("square", 0.9, (1, 2, 5, 6), 14, (3.0, 4.0), 0.0, 4.0, 4.0, 1, 2, (Defect(*d),), False,
+         ("hole",))  # fmt: skip
+    assert new_inspection(*i) == Inspection(*i)
+    assert new_inspection(*i).to_dict() == Inspection(*i).to_dict()
+    assert new_scanned(3, 1, 4, Inspection(*i)) == ScannedObject(3, 1, 4, Inspection(*i))
+    assert hash(new_inspection(*i)) == hash(Inspection(*i))

@@ -19,6 +19,8 @@ overhead than the work itself. These kernels do that work directly:
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
 
@@ -700,3 +702,323 @@ def open_burrs(filled, starts, heights, widths, candidates, coords, ring_starts)
             k += opened_ring.shape[0]
             starts_out.append(k)
     return core, changed, rings[:k], np.array(starts_out, dtype=np.int64)
+
+
+@nb.njit(**_OPTS)
+def _power_of_two(peak):
+    """The power of two :func:`tentaclass.geometry._power_of_two_scale` gives for ``peak``."""
+    if peak > 0:
+        return math.ldexp(1.0, math.frexp(peak)[1] - 1)
+    return 1.0
+
+
+@nb.njit(**_OPTS)
+def chord_turns(coords, ring_starts, n_points):
+    """Operands of the turning angles of a walk of ``n_points`` equal chords around each ring.
+
+    Ring ``i`` is ``coords[ring_starts[i]:ring_starts[i + 1]]`` (closed
+    implicitly: no repeated first vertex). The walk is
+    :func:`tentaclass.geometry.resample_closed` of the ring and the angles
+    :func:`tentaclass.geometry.points_to_angles` of the walk, ``arctan2(cross,
+    dot)``; this returns ``cross`` and ``dot`` of shape ``(n_rings,
+    n_points)``, with the same arithmetic, and whether two consecutive points
+    of some walk coincide (or a ring has no perimeter), where those functions
+    raise.
+    """
+    n = ring_starts.shape[0] - 1
+    cross = np.empty((n, n_points))
+    dot = np.empty((n, n_points))
+    walk = np.empty((n_points, 2))
+    bad = False
+    for i in range(n):
+        a, b = ring_starts[i], ring_starts[i + 1]
+        m = b - a
+        peak = 0.0
+        for j in range(a, b):
+            peak = max(peak, abs(coords[j, 0]), abs(coords[j, 1]))
+        scale = _power_of_two(peak)
+        p = np.empty((m + 1, 2))
+        for j in range(m):
+            p[j, 0] = coords[a + j, 0] / scale
+            p[j, 1] = coords[a + j, 1] / scale
+        p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
+        s = np.empty(m + 1)
+        s[0] = 0.0
+        for j in range(m):
+            s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
+        total = s[m]
+        if not total > 0:
+            bad = True
+            continue
+        u = s / total
+        j = 0
+        peak = 0.0
+        for k in range(n_points):
+            t = k / n_points
+            while j < m and u[j + 1] <= t:  # searchsorted(u, t, "right") - 1, clipped
+                j += 1
+            j = min(j, m - 1)
+            u0, u1 = u[j], u[j + 1]
+            w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
+            for d in range(2):
+                walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
+                peak = max(peak, abs(walk[k, d]))
+        scale = _power_of_two(peak)
+        for k in range(n_points):
+            walk[k, 0] /= scale
+            walk[k, 1] /= scale
+        for k in range(n_points):
+            k0 = k - 1 if k > 0 else n_points - 1
+            k2 = k + 1 if k < n_points - 1 else 0
+            px, py = walk[k, 0] - walk[k0, 0], walk[k, 1] - walk[k0, 1]
+            ex, ey = walk[k2, 0] - walk[k, 0], walk[k2, 1] - walk[k, 1]
+            if ex == 0 and ey == 0:
+                bad = True
+            cross[i, k] = px * ey - py * ex
+            dot[i, k] = px * ex + py * ey
+    return cross, dot, bad
+
+
+# -- the minimum-area rectangle of GEOS (shapely.oriented_envelope), same arithmetic -------------
+# Double-double numbers as GEOS's DD class computes them (Dekker's split; no fused
+# multiply-add), for its exact orientation test and line intersection.
+_SPLIT = 134217729.0  # 2**27 + 1
+_DP_SAFE_EPSILON = 1e-15
+
+
+@nb.njit(**_OPTS)
+def _dd_add(hi, lo, yhi, ylo):
+    s_ = hi + yhi
+    t_ = lo + ylo
+    e = s_ - hi
+    f = t_ - lo
+    s = s_ - e
+    t = t_ - f
+    s = (yhi - e) + (hi - s)
+    t = (ylo - f) + (lo - t)
+    e = s + t_
+    h_ = s_ + e
+    h = e + (s_ - h_)
+    e = t + h
+    zhi = h_ + e
+    return zhi, e + (h_ - zhi)
+
+
+@nb.njit(**_OPTS)
+def _two_product(a, b):
+    """``a * b`` and its rounding error, by Dekker's split (as GEOS's DD computes them)."""
+    c = _SPLIT * a
+    ah = c - (c - a)
+    at = a - ah
+    c = _SPLIT * b
+    bh = c - (c - b)
+    bt = b - bh
+    p = a * b
+    return p, (((ah * bh - p) + ah * bt) + at * bh) + at * bt
+
+
+@nb.njit(**_OPTS)
+def _dd_mul(hi, lo, yhi, ylo):
+    p, err = _two_product(hi, yhi)
+    c = err + (hi * ylo + lo * yhi)
+    zhi = p + c
+    return zhi, c + (p - zhi)
+
+
+@nb.njit(error_model="numpy", **_OPTS)  # x / 0 is inf or NaN (parallel lines), as in C
+def _dd_div(hi, lo, yhi, ylo):
+    q = hi / yhi
+    p, err = _two_product(q, yhi)
+    c = ((((hi - p) - err) + lo) - q * ylo) / yhi
+    u = q + c
+    return u, (q - u) + c
+
+
+@nb.njit(**_OPTS)
+def _dd_det(ahi, alo, bhi, blo, chi, clo, dhi, dlo):
+    """``a * b - c * d`` in double-double."""
+    x = _dd_mul(ahi, alo, bhi, blo)
+    y = _dd_mul(chi, clo, dhi, dlo)
+    return _dd_add(x[0], x[1], -y[0], -y[1])
+
+
+@nb.njit(**_OPTS)
+def _orientation(p1x, p1y, p2x, p2y, qx, qy):
+    """GEOS's Orientation::index: 1 if q is left of p1 -> p2, -1 right, 0 on the line."""
+    detleft = (p1x - qx) * (p2y - qy)
+    detright = (p1y - qy) * (p2x - qx)
+    det = detleft - detright
+    detsum = 0.0
+    decided = True
+    if detleft > 0.0:
+        if detright > 0.0:
+            decided = False
+            detsum = detleft + detright
+    elif detleft < 0.0:
+        if detright < 0.0:
+            decided = False
+            detsum = -detleft - detright
+    if not decided:
+        errbound = _DP_SAFE_EPSILON * detsum
+        decided = det >= errbound or -det >= errbound
+    if decided:
+        return 1 if det > 0 else (-1 if det < 0 else 0)
+    dx1 = _dd_add(p2x, 0.0, -p1x, 0.0)
+    dy1 = _dd_add(p2y, 0.0, -p1y, 0.0)
+    dx2 = _dd_add(qx, 0.0, -p2x, 0.0)
+    dy2 = _dd_add(qy, 0.0, -p2y, 0.0)
+    hi, lo = _dd_det(dx1[0], dx1[1], dy2[0], dy2[1], dy1[0], dy1[1], dx2[0], dx2[1])
+    if hi < 0 or (hi == 0 and lo < 0):
+        return -1
+    if hi > 0 or (hi == 0 and lo > 0):
+        return 1
+    return 0
+
+
+@nb.njit(**_OPTS)
+def _line_intersection(p1x, p1y, p2x, p2y, q1x, q1y, q2x, q2y):
+    """GEOS's CGAlgorithmsDD::intersection of the lines p1-p2 and q1-q2 (NaN if none)."""
+    px = _dd_add(p1y, 0.0, -p2y, -0.0)  # DD(a) - DD(b) adds (-b, -0.0)
+    py = _dd_add(p2x, 0.0, -p1x, -0.0)
+    pw = _dd_det(p1x, 0.0, p2y, 0.0, p2x, 0.0, p1y, 0.0)
+    qx = _dd_add(q1y, 0.0, -q2y, -0.0)
+    qy = _dd_add(q2x, 0.0, -q1x, -0.0)
+    qw = _dd_det(q1x, 0.0, q2y, 0.0, q2x, 0.0, q1y, 0.0)
+    x = _dd_det(py[0], py[1], qw[0], qw[1], qy[0], qy[1], pw[0], pw[1])
+    y = _dd_det(qx[0], qx[1], pw[0], pw[1], px[0], px[1], qw[0], qw[1])
+    w = _dd_det(px[0], px[1], qy[0], qy[1], qx[0], qx[1], py[0], py[1])
+    xi = _dd_div(x[0], x[1], w[0], w[1])
+    yi = _dd_div(y[0], y[1], w[0], w[1])
+    xi, yi = xi[0] + xi[1], yi[0] + yi[1]
+    if not (np.isfinite(xi) and np.isfinite(yi)):  # parallel lines: GEOS's null coordinate
+        return np.nan, np.nan
+    return xi, yi
+
+
+@nb.njit(**_OPTS)
+def _oriented_distance(ax, ay, bx, by, px, py, orient):
+    """GEOS's LineSegment::distancePerpendicularOriented (absolute for ``orient`` 0)."""
+    if ax == bx and ay == by:
+        dx, dy = ax - px, ay - py
+        return np.sqrt(dx * dx + dy * dy)
+    s = ((ay - py) * (bx - ax) - (ax - px) * (by - ay)) / (
+        (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    )
+    dist = np.abs(s) * np.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
+    if orient == 0:
+        return dist  # abs of +-dist
+    if _orientation(ax, ay, bx, by, px, py) < 0:
+        return -dist
+    return dist
+
+
+@nb.njit(**_OPTS)
+def _further_or_equal(d1, d2, orient):
+    if orient == 0:
+        return abs(d1) >= abs(d2)
+    if orient == 1:
+        return d1 >= d2
+    return d1 <= d2
+
+
+@nb.njit(**_OPTS)
+def _furthest_vertex(ring, ax, ay, bx, by, start, orient):
+    """GEOS's MinimumAreaRectangle::findFurthestVertex (``ring`` closed)."""
+    size = ring.shape[0]
+    max_d = _oriented_distance(ax, ay, bx, by, ring[start, 0], ring[start, 1], orient)
+    next_d = max_d
+    max_i = start
+    next_i = max_i
+    while _further_or_equal(next_d, max_d, orient):
+        max_d = next_d
+        max_i = next_i
+        next_i = max_i + 1
+        if next_i >= size - 1:
+            next_i = 0
+        if next_i == start:
+            break
+        next_d = _oriented_distance(ax, ay, bx, by, ring[next_i, 0], ring[next_i, 1], orient)
+    return max_i
+
+
+@nb.njit(**_OPTS)
+def _standard_line(a, b, c):
+    """Two points of the line ``a x + b y = c``, as GEOS chooses them for a rectangle."""
+    if abs(b) > abs(a):
+        return 0.0, c / b, 1.0, c / b - a / b
+    return c / a, 0.0, c / a - b / a, 1.0
+
+
+@nb.njit(**_OPTS)
+def _corner(out, k, sx, sy, px, py, line1, line2):
+    """Corner ``k``: the point ``p`` if the side point ``s`` is it, else where the lines meet."""
+    if sx == px and sy == py:
+        out[k, 0], out[k, 1] = px, py
+    else:
+        out[k, 0], out[k, 1] = _line_intersection(*line1, *line2)
+
+
+@nb.njit(**_OPTS)
+def min_area_rectangle(ring, out):
+    """GEOS's MinimumAreaRectangle of a convex ring (closed, clockwise) into ``out`` (5, 2).
+
+    Rotating calipers over the ring's edges, and the rectangle built from its
+    side points (Rectangle::createFromSidePts), with GEOS's arithmetic: the
+    same corners as :func:`shapely.oriented_envelope` of the polygon.
+    """
+    size = ring.shape[0]
+    min_area = np.finfo(np.float64).max
+    best_base = best_diam = best_left = best_right = -1
+    diam = 1
+    left = 1
+    right = -1
+    for i in range(size - 1):
+        b0x, b0y = ring[i, 0], ring[i, 1]
+        b1x, b1y = ring[i + 1, 0], ring[i + 1, 1]
+        diam = _furthest_vertex(ring, b0x, b0y, b1x, b1y, diam, 0)
+        dpx, dpy = ring[diam, 0], ring[diam, 1]
+        # LineSegment::project of the diameter point on the base
+        if (dpx == b0x and dpy == b0y) or (dpx == b1x and dpy == b1y):
+            bpx, bpy = dpx, dpy
+        else:
+            dx, dy = b1x - b0x, b1y - b0y
+            r = ((dpx - b0x) * dx + (dpy - b0y) * dy) / (dx * dx + dy * dy)
+            bpx = b0x + r * (b1x - b0x)
+            bpy = b0y + r * (b1y - b0y)
+        left = _furthest_vertex(ring, bpx, bpy, dpx, dpy, left, 1)
+        if i == 0:
+            right = diam
+        right = _furthest_vertex(ring, bpx, bpy, dpx, dpy, right, -1)
+        width = abs(_oriented_distance(bpx, bpy, dpx, dpy, ring[left, 0], ring[left, 1], 0))
+        width += abs(_oriented_distance(bpx, bpy, dpx, dpy, ring[right, 0], ring[right, 1], 0))
+        lx, ly = bpx - dpx, bpy - dpy
+        area = np.sqrt(lx * lx + ly * ly) * width
+        if area < min_area:
+            min_area = area
+            best_base, best_diam, best_left, best_right = i, diam, left, right
+    brx, bry = ring[best_base, 0], ring[best_base, 1]
+    blx, bly = ring[best_base + 1, 0], ring[best_base + 1, 1]
+    opx, opy = ring[best_diam, 0], ring[best_diam, 1]
+    lsx, lsy = ring[best_left, 0], ring[best_left, 1]
+    rsx, rsy = ring[best_right, 0], ring[best_right, 1]
+    dx = blx - brx
+    dy = bly - bry
+    base = _standard_line(-dy, dx, dx * bry - dy * brx)
+    opp = _standard_line(-dy, dx, dx * opy - dy * opx)
+    lft = _standard_line(-dx, -dy, -dy * lsy - dx * lsx)
+    rgt = _standard_line(-dx, -dy, -dy * rsy - dx * rsx)
+    _corner(out, 0, rsx, rsy, brx, bry, base, rgt)
+    _corner(out, 1, lsx, lsy, blx, bly, base, lft)
+    _corner(out, 2, lsx, lsy, opx, opy, opp, lft)
+    _corner(out, 3, rsx, rsy, opx, opy, opp, rgt)
+    out[4, 0], out[4, 1] = out[0, 0], out[0, 1]
+
+
+@nb.njit(**_OPTS)
+def min_area_rectangles(coords, ring_starts):
+    """:func:`min_area_rectangle` of each closed ring stored one after the other: ``(n, 5, 2)``."""
+    n = ring_starts.shape[0] - 1
+    out = np.empty((n, 5, 2))
+    for i in range(n):
+        min_area_rectangle(coords[ring_starts[i] : ring_starts[i + 1]], out[i])
+    return out

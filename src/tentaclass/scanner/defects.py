@@ -28,8 +28,14 @@ import numpy as np
 import shapely
 
 from . import _geometry as geo
-from .descriptors import Geometry, MaskBatch, flatten_masks, polygons_from_rings
-from .records import Defect
+from .descriptors import (
+    Geometry,
+    MaskBatch,
+    flatten_masks,
+    polygons_from_rings,
+    rectangles_of_rings,
+)
+from .records import Defect, new_defect
 
 __all__ = ["DefectSettings", "expected_outline", "find_defects"]
 
@@ -148,15 +154,22 @@ def _expected_outlines(
             out[sel] = make(rings[take], indices=index) if k == 2 else make(rings[take])
     if not poly.any():
         return out
-    hulls = np.empty(n, dtype=object)
-    take = np.repeat(poly, counts)
-    hulls[poly] = polygons_from_rings(rings[take], np.concatenate([[0], np.cumsum(counts[poly])]))
     labels = np.array([str(x) for x in labels])
     rect = poly & ((labels == "square") | (labels == "rectangle"))
     circle = poly & (labels == "circle")
     triangle = poly & (labels == "triangle")
     other = poly & ~(rect | circle | triangle)
-    out[rect] = shapely.oriented_envelope(hulls[rect])
+    hulls = np.empty(n, dtype=object)
+    shaped = poly & ~rect  # (rectangles come from the rings directly)
+    take = np.repeat(shaped, counts)
+    hulls[shaped] = polygons_from_rings(
+        rings[take], np.concatenate([[0], np.cumsum(counts[shaped])])
+    )
+    if rect.any():
+        take = np.repeat(rect, counts)
+        out[rect] = rectangles_of_rings(
+            rings[take], np.concatenate([[0], np.cumsum(counts[rect])])
+        )[1]
     out[circle] = shapely.minimum_bounding_circle(hulls[circle])
     if triangle.any():
         out[triangle] = _enclosing_triangles(hulls[triangle])
@@ -298,7 +311,7 @@ def find_defects_many(
         depth = 0.0 if code == geo.HOLE else round(depth, 3)
         dr, dc = (0, 0) if offsets is None else offsets[i]
         box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
-        out[i].append(Defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
+        out[i].append(new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
     for i in np.unique(ints[:, 0]).tolist():
         # holes, then missing, then extra material, each largest first
         group = {geo.HOLE: 0, geo.BURR: 2}

@@ -48,7 +48,14 @@ from ..errors import InputError
 from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
-from ._geometry import bounding_radii, mask_hull, measure_batch, open_burrs
+from ._geometry import (
+    bounding_radii,
+    chord_turns,
+    mask_hull,
+    measure_batch,
+    min_area_rectangles,
+    open_burrs,
+)
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -170,17 +177,31 @@ def flatten_masks(masks: Sequence[np.ndarray]) -> MaskBatch:
 
 def polygons_from_rings(coords: np.ndarray, ring_starts: np.ndarray) -> np.ndarray:
     """Shapely polygons of closed rings stored one after the other (``ring_starts``)."""
-    index = np.repeat(np.arange(ring_starts.size - 1), np.diff(ring_starts))
-    return shapely.polygons(shapely.linearrings(coords, indices=index))
+    n = ring_starts.size - 1
+    return shapely.from_ragged_array(
+        shapely.GeometryType.POLYGON, coords, (ring_starts, np.arange(n + 1))
+    )
 
 
-def _rectangle_sides(rects: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def rectangles_of_rings(
+    coords: np.ndarray, ring_starts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Minimum rotated rectangles of convex rings stored one after the other.
+
+    The rings are closed and in the order GEOS's convex hull gives (as
+    :func:`~._geometry.mask_hull` makes them); returns the rectangles'
+    corners ``(n, 5, 2)`` (closed) and the rectangles as shapely polygons: the
+    same as :func:`shapely.oriented_envelope` of the rings' polygons, from a
+    compiled copy of its algorithm and arithmetic.
+    """
+    corners = min_area_rectangles(coords, ring_starts)
+    n = corners.shape[0]
+    return corners, polygons_from_rings(corners.reshape(5 * n, 2), np.arange(0, 5 * n + 1, 5))
+
+
+def _rectangle_sides(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """First four corners of each rectangle, and the lengths of its first two sides."""
-    xy, index = shapely.get_coordinates(rects, return_index=True)
-    if xy.shape[0] == 5 * rects.size and np.array_equal(index, np.repeat(np.arange(rects.size), 5)):
-        xy = xy.reshape(-1, 5, 2)[:, :4]
-    else:  # a degenerate envelope somewhere (not a 4-cornered polygon)
-        xy = np.stack([np.asarray(r.exterior.coords)[:4] for r in rects])
+    xy = corners[:, :4]
     d1, d2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1]
     return xy, np.hypot(d1[:, 0], d1[:, 1]), np.hypot(d2[:, 0], d2[:, 1])
 
@@ -203,8 +224,8 @@ def measure_many(
         return [], np.zeros((0, 2)), batch._replace(filled=flat, core=flat)
     filled_flat, coords, ring_starts, areas, sums = measure_batch(flat, starts, heights, widths)
     hulls = polygons_from_rings(coords, ring_starts)
-    rects = shapely.oriented_envelope(hulls)
-    xy, l1, l2 = _rectangle_sides(rects)
+    corners, rects = rectangles_of_rings(coords, ring_starts)
+    xy, l1, l2 = _rectangle_sides(corners)
     filled = batch.views(filled_flat)
     # Thin burrs would stretch the hull: objects wide enough for an opening
     # (see opening_radius) are measured without what it removes, if that
@@ -218,12 +239,13 @@ def measure_many(
     if changed.any():
         cores = batch.views(core_flat)
         hulls[changed] = polygons_from_rings(opened, opened_starts)
-        rects[changed] = shapely.oriented_envelope(hulls[changed])
-        xy[changed], l1[changed], l2[changed] = _rectangle_sides(rects[changed])
+        corners, rects[changed] = rectangles_of_rings(opened, opened_starts)
+        xy[changed], l1[changed], l2[changed] = _rectangle_sides(corners)
     long_edge = np.where((l1 >= l2)[:, None], xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1])
     # rows grow downwards, so the on-screen angle uses -dy
     angles = np.degrees(np.arctan2(-long_edge[:, 1], long_edge[:, 0])).tolist()
     geoms = []
+    new = object.__new__
     for mask, f, core, area, hull, rect, a, b, angle in zip(
         masks, filled, cores, areas.tolist(), hulls, rects, l1.tolist(), l2.tolist(), angles,
         strict=True,
@@ -232,11 +254,12 @@ def measure_many(
         if angle > 180.0 - 1e-9:
             angle = 0.0
         long, short = (a, b) if a >= b else (b, a)
-        geoms.append(
-            Geometry(
-                mask, f, core, area, hull, rect, round(long, 9), round(short, 9), round(angle, 6)
-            )
-        )
+        g = new(Geometry)  # Geometry(mask, f, ...) without its frozen __setattr__ per field
+        g.__dict__.update(
+            {"mask": mask, "filled": f, "core": core, "area": area, "hull": hull, "rect": rect,
+             "length": round(long, 9), "width": round(short, 9), "orientation": round(angle, 6)}
+        )  # fmt: skip
+        geoms.append(g)
     return geoms, sums, batch._replace(filled=filled_flat, core=core_flat)
 
 
@@ -288,6 +311,16 @@ def _outlines_fourier(batch: np.ndarray, n_points: int, n_harmonics: int) -> np.
     return fourier_features(q, n_harmonics, normalize=True)
 
 
+def _rings_fourier(
+    coords: np.ndarray, ring_starts: np.ndarray, n_points: int, n_harmonics: int
+) -> np.ndarray:
+    """:func:`_outlines_fourier` of rings stored one after the other (not closed), compiled."""
+    cross, dot, bad = chord_turns(coords, ring_starts, n_points)
+    if bad:
+        raise InputError("an outline has zero perimeter or two coinciding chord ends")
+    return fourier_features(np.arctan2(cross, dot), n_harmonics, normalize=True)
+
+
 def _hull_features(geoms: Sequence[Geometry], n_points: int, n_harmonics: int) -> np.ndarray:
     """The ``"hull"`` group of every object: scalars and hull-outline Fourier features."""
     n = len(geoms)
@@ -313,8 +346,13 @@ def _hull_features(geoms: Sequence[Geometry], n_points: int, n_harmonics: int) -
         ],
         axis=1,
     )
-    batch = _padded_rings(coords, index, n)
-    return np.concatenate([scalars, _outlines_fourier(batch, n_points, n_harmonics)], axis=1)
+    return np.concatenate(
+        [
+            scalars,
+            _rings_fourier(coords, np.searchsorted(index, np.arange(n + 1)), n_points, n_harmonics),
+        ],
+        axis=1,
+    )
 
 
 def _outline_ring(g: Geometry) -> np.ndarray | None:

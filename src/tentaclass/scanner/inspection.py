@@ -13,7 +13,7 @@ from ..errors import InputError
 from .defects import DefectSettings, find_defects_many
 from .descriptors import Geometry, MaskBatch, measure_many
 from .model import ScannerModel, crop, default_model
-from .records import Defect, Inspection
+from .records import Defect, Inspection, new_inspection
 
 __all__ = ["NominalSize", "inspect", "inspect_many"]
 
@@ -136,20 +136,20 @@ def _record(
 ) -> Inspection:
     """The inspection record of a measured object; accepted when it has no defect."""
     holes = [d for d in defects if d.kind == "hole"]
-    return Inspection(
-        label=label,
-        confidence=round(confidence, 6),
-        bbox=bbox,
-        area=g.area,
-        centroid=centroid,
-        orientation=g.orientation,
-        length=g.length,
-        width=g.width,
-        holes=len(holes),
-        hole_area=int(sum(d.area for d in holes)),
-        defects=tuple(defects),
-        accept=not defects,
-        reasons=tuple(_reason(d) for d in defects),
+    return new_inspection(
+        label,
+        round(confidence, 6),
+        bbox,
+        g.area,
+        centroid,
+        g.orientation,
+        g.length,
+        g.width,
+        len(holes),
+        int(sum(d.area for d in holes)),
+        tuple(defects),
+        not defects,
+        tuple(_reason(d) for d in defects),
     )
 
 
@@ -204,12 +204,31 @@ def inspect_masks(
     ]
     defects = find_defects_many(geoms, labels, settings, shifted, batch, offsets)
     centroids = (sums / np.array([g.area for g in geoms])[:, None]).tolist()
-    return [
-        _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
-        for g, d, c, label, p, (top, left) in zip(
-            geoms, defects, centroids, labels, confidence, offsets, strict=True
-        )
-    ]
+    if nominal_size is not None or not single:
+        return [
+            _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
+            for g, d, c, label, p, (top, left) in zip(
+                geoms, defects, centroids, labels, confidence, offsets, strict=True
+            )
+        ]
+    # the same records as _assemble gives, built in one pass
+    out = []
+    for g, d, (cr, cc), label, p, (top, left), h, w in zip(
+        geoms, defects, centroids, labels, confidence, offsets, batch.heights.tolist(),
+        batch.widths.tolist(), strict=True,
+    ):  # fmt: skip
+        bbox = (top, left, top + h, left + w)
+        centroid = (round(cr + top, 6), round(cc + left, 6))
+        if d:
+            out.append(_record(g, label, p, bbox, centroid, d))
+        else:
+            out.append(
+                new_inspection(
+                    label, round(p, 6), bbox, g.area, centroid, g.orientation, g.length,
+                    g.width, 0, 0, (), True, (),
+                )
+            )  # fmt: skip
+    return out
 
 
 def inspect(

@@ -35,7 +35,7 @@ from .defects import DefectSettings
 from .descriptors import measure
 from .inspection import NominalSize, _check_options, _placement, _record, inspect_masks
 from .model import ScannerModel
-from .records import Defect, Inspection, ScannedObject
+from .records import Defect, Inspection, ScannedObject, new_scanned
 from .threshold import Threshold, belt_levels, check_options, choose_threshold
 
 __all__ = ["LineScanner"]
@@ -563,7 +563,7 @@ class LineScanner:
         out = []
         for (last, _, first), kind, mask, top, left in found:
             insp = next(results) if kind == 0 else self._too_tall(mask, top, left)
-            out.append(ScannedObject(self.n_emitted, first, last, insp))
+            out.append(new_scanned(self.n_emitted, first, last, insp))
             self.n_emitted += 1
         return out
 
