@@ -18,14 +18,17 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/tentaclass demo --out out
 
+# every test, slow ones included, on all cores (pytest-xdist; slow tests start first)
+PYTEST_PARALLEL ?= -n auto --dist loadgroup
+
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples
 	$(BIN)/mypy src
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q $(PYTEST_PARALLEL)
 
 # the slow tests (MPEG-7 sweeps, long simulations) left out
 test-fast: $(STAMP)
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(BIN)/python -m pytest -q $(PYTEST_PARALLEL) -m "not slow"
 
 # the same properties with fresh random examples, many more of them
 fuzz: $(STAMP)

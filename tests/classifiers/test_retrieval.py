@@ -183,10 +183,20 @@ def test_mpeg7_subset_retrieval(mpeg7_folder):
     assert elastic > rigid + 0.15
 
 
-@pytest.mark.slow  # the whole 1400 x 1400 matrix: about 5 minutes of CPU
+@pytest.mark.slow  # 700 x 700 pairs: about a minute of CPU
 def test_mpeg7_bullseye_of_the_elastic_matcher(mpeg7_folder):
+    """The bull's-eye test on every other silhouette of each of the 70 classes.
+
+    700 shapes, 10 per class, the nearest 20 counted (twice the class size, as
+    on the whole set): a quarter of the pairs of the whole 1400 x 1400 matrix, whose
+    score (89.40 %, goal 87.7 %) ``benchmarks/bench_outline.py --sets ""``
+    measures and BENCHMARKS.md records. The distance of a pair does not depend
+    on the other shapes, so this is the full matrix's sub-matrix.
+    """
     from tentaclass.shapes import load_mpeg7
 
     outlines, labels, _ = load_mpeg7(mpeg7_folder)
-    # measured: 89.40 % (BENCHMARKS.md); the best single descriptors: 85.4-90.4 %
-    assert bullseye_score(shape_distances(outlines), labels) >= 0.877
+    keep = np.concatenate([np.flatnonzero(labels == c)[::2] for c in np.unique(labels)])
+    D = shape_distances([outlines[i] for i in keep])
+    # measured: 90.07 % on these 700 (89.40 % on all 1400)
+    assert bullseye_score(D, labels[keep], top=20) >= 0.885
