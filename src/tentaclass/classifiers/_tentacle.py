@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import numbers
 import warnings
 from typing import Any
@@ -23,6 +24,8 @@ from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
 from ..features import LapSplit, fourier_features, last_lap, split_laps
+from ..geometry import resample_closed
+from . import _elastic
 from ._shift_nn import ShiftNNClassifier
 
 __all__ = ["TentacleClassifier"]
@@ -33,6 +36,13 @@ _CALIBRATION_QUERIES = 300
 _VIEWS = 2
 #: Weights tried for the exact-lap and the spectrum member (the lap matcher weighs 1).
 _WEIGHTS = (0.0, 0.25, 0.5, 1.0, 2.0)
+#: Weights tried for the elastic outline member.
+_ELASTIC_WEIGHTS = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0)
+#: Points of the rebuilt lap outline the elastic member describes.
+_ELASTIC_POINTS = 64
+#: Training wraps matched elastically per query: the nearest by the lap matcher
+#: and by the exact matcher (the elastic matcher re-ranks them).
+_ELASTIC_CANDIDATES = (30, 15)
 #: Folds (over objects) giving the spectrum member's held-out probabilities.
 _INNER_FOLDS = 3
 #: The spectrum member needs this many training wraps per class (else it is left out).
@@ -51,7 +61,7 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     with noisy encoders. From the angles alone the classifier finds the
     approach and the length of one lap (:func:`tentaclass.features.split_laps`)
     and averages every lap it sees into one (joint noise falls with the number
-    of laps). Three members score every class:
+    of laps). Four members score every class:
 
     - the averaged lap against every training lap by the Procrustes distance
       of the rebuilt outlines, minimised over start point, rotation and mirror
@@ -65,7 +75,14 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
       sharpest with clean encoders;
     - ``|DFT|`` of the last lap and of the whole array, classified by a small
       neural network (the whole array resolves corners that a lap of few links
-      cuts).
+      cuts);
+    - the averaged lap rebuilt by forward kinematics as a closed outline and
+      matched *elastically* (height functions aligned by dynamic programming,
+      as :func:`tentaclass.shape_distances` matches outlines) against the
+      outlines of the training wraps nearest by the two matchers above (30 by
+      the lap matcher, 15 by the exact one): legs, necks and bridged slots
+      that bend from one object of a class to the next still line up. The
+      strongest member on MPEG-7 wraps.
 
     The scores (distances to each class's nearest training wrap, scaled, and
     the network's negative log probabilities) are summed with weights chosen
@@ -106,11 +123,20 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     spectrum_ : Pipeline or None
         The spectrum network (``None`` with fewer than four training wraps in
         some class).
-    weights_ : ndarray of shape (3,)
-        Weights of the three members in the blend (the first is 1).
-    lap_scale_, exact_scale_ : float
+    weights_ : ndarray of shape (4,)
+        Weights of the four members in the blend: lap matcher (1), exact
+        matcher, spectrum network, elastic matcher.
+    lap_scale_, exact_scale_, elastic_scale_ : float
         Median held-out nearest distance of each matcher: its distances are
         divided by it before blending.
+    elastic_heights_ : ndarray of shape (n_samples, 64, 20), float32
+        Height descriptors of the training wraps' lap outlines (no rows when
+        the elastic member's weight is 0).
+    elastic_complexity_ : ndarray of shape (n_samples,)
+        Their complexities (the elastic distance is divided by the sum of the
+        two outlines' complexities).
+    owner_ : ndarray of shape (n_rows,)
+        Training wrap of each row of the lap matcher.
     headings_ : ndarray of shape (n_arcs, n_points)
         Heading functions of the closed training laps (and their mirror
         images), for partial wraps.
@@ -204,6 +230,10 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         )
         # member 2: the last lap rebuilt from the joint positions, every frequency
         self.exact_ = ShiftNNClassifier(signal="shape").fit(last_lap(X3, self.n_points)[0], y_idx)
+        # member 4: the averaged lap rebuilt as an outline, matched elastically
+        outlines = _lap_outlines(split.lap)
+        self.elastic_heights_ = _elastic.height_descriptors(outlines, _elastic.DENSE)[0]
+        self.elastic_complexity_ = _elastic.complexity(self.elastic_heights_)
         # member 3: spectra of the last lap and of the whole array, a small network
         counts = np.bincount(y_idx, minlength=k)
         use_spectrum = k > 1 and counts.min() >= _SPECTRUM_MIN_PER_CLASS
@@ -211,22 +241,27 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
         self.spectrum_ = _fit_spectrum(features, y_idx) if use_spectrum else None
         # held-out scores of every member on the calibration queries
         q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
-        d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
-        d[groups[q][:, None] == groups[owner][None, :]] = np.inf
-        s_lap = _class_minima(d, self.matcher_.labels_, k)
-        d = np.sqrt(self.exact_.shift_distances(last_lap(X3[q], self.n_points)[0]))
-        d[groups[q][:, None] == groups[None, :]] = np.inf
-        s_exact = _class_minima(d, y_idx, k)
+        d_lap = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
+        d_lap[groups[q][:, None] == groups[owner][None, :]] = np.inf
+        s_lap = _class_minima(d_lap, self.matcher_.labels_, k)
+        d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X3[q], self.n_points)[0]))
+        d_exact[groups[q][:, None] == groups[None, :]] = np.inf
+        s_exact = _class_minima(d_exact, y_idx, k)
+        self.owner_ = owner
+        s_el = self._elastic_minima(split.lap[q], d_lap, d_exact)
         s_spec = None
         if use_spectrum:
             s_spec = _held_out_spectrum(features, y_idx, groups, q, k)
         self.lap_scale_ = _median_nearest(s_lap)
         self.exact_scale_ = _median_nearest(s_exact)
-        self.weights_ = _choose_weights(
-            s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec, y_idx[q]
-        )
-        blended = _blend(s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec,
-                         self.weights_)  # fmt: skip
+        self.elastic_scale_ = _median_nearest(s_el)
+        members = [s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec,
+                   s_el / self.elastic_scale_]  # fmt: skip
+        self.weights_ = _choose_weights(members, y_idx[q])
+        blended = _blend(members, self.weights_)
+        if self.weights_[3] == 0:  # not used: the model file need not hold it
+            self.elastic_heights_ = self.elastic_heights_[:0]
+            self.elastic_complexity_ = self.elastic_complexity_[:0]
         self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
             blended, y_idx[q], rate
         )
@@ -278,15 +313,42 @@ class TentacleClassifier(DaskMixin, ClassifierMixin, BaseEstimator):
     def _closed_scores(self, X: FloatArray, laps: FloatArray) -> FloatArray:
         """Blended member scores of wraps with a full lap, before the final scale."""
         k = len(self.classes_)
-        d = np.sqrt(self.matcher_.shift_distances(laps))
-        s_lap = _class_minima(d, self.matcher_.labels_, k) / self.lap_scale_
-        s_exact = s_spec = None
-        if self.weights_[1] > 0:
-            d = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
-            s_exact = _class_minima(d, self.exact_.labels_, k) / self.exact_scale_
+        d_lap = np.sqrt(self.matcher_.shift_distances(laps))
+        s_lap = _class_minima(d_lap, self.matcher_.labels_, k) / self.lap_scale_
+        s_exact = s_spec = s_el = None
+        if self.weights_[1] > 0 or self.weights_[3] > 0:
+            d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
+            s_exact = _class_minima(d_exact, self.exact_.labels_, k) / self.exact_scale_
         if self.weights_[2] > 0:
             s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
-        return _blend(s_lap, s_exact, s_spec, self.weights_)
+        if self.weights_[3] > 0:
+            s_el = self._elastic_minima(laps, d_lap, d_exact) / self.elastic_scale_
+        return _blend([s_lap, s_exact, s_spec, s_el], self.weights_)
+
+    def _elastic_minima(
+        self, laps: FloatArray, d_lap: FloatArray, d_exact: FloatArray
+    ) -> FloatArray:
+        """Elastic distance of each lap outline to each class, over candidate training wraps.
+
+        The candidates are the training wraps nearest by the lap matcher
+        (``d_lap``, over its rows) and by the exact matcher (``d_exact``);
+        a class without a candidate scores the query's largest candidate
+        distance (it was far by the other matchers).
+        """
+        labels, k = self.exact_.labels_, len(self.classes_)
+        ia = _candidates(d_lap, self.owner_, d_exact)
+        ib = np.repeat(np.arange(len(laps)), [len(c) for c in ia])
+        ia_all = np.concatenate(ia) if ia else np.empty(0, np.int64)
+        F, Fm, c = _elastic.query_descriptors(_lap_outlines(laps))
+        d = _elastic.pair_distances(
+            self.elastic_heights_, self.elastic_complexity_, F, Fm, c, ia_all, ib
+        )
+        out = np.full((len(laps), k), np.inf)
+        np.minimum.at(out, (ib, labels[ia_all]), d)
+        finite = np.isfinite(out)
+        fill = np.where(finite, out, -np.inf).max(axis=1, initial=-np.inf)
+        fill = np.where(np.isfinite(fill), fill, 1.0)
+        return np.where(finite, out, fill[:, None])
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Calibrated class probabilities, shape (n_samples, n_classes); rows sum to 1."""
@@ -369,6 +431,38 @@ def _lap_views(
     return np.concatenate(views), np.concatenate(owner)
 
 
+def _lap_outlines(laps: FloatArray) -> FloatArray:
+    """Laps (n, n_points) rebuilt as polygons of equal links, resampled for the elastic matcher.
+
+    Joint ``j`` of a lap sits at the sum of the unit links before it, each
+    turned by the turns so far: the outline the chain lay on (a partial lap is
+    closed by its chord).
+    """
+    z = np.cumsum(np.exp(1j * np.cumsum(laps, axis=1)), axis=1)
+    points = np.stack([z.real, z.imag], axis=-1)
+    return resample_closed(points, _ELASTIC_POINTS * _elastic.DENSE)
+
+
+def _candidates(d_rows: FloatArray, owner: np.ndarray, d_wraps: FloatArray) -> list[np.ndarray]:
+    """Per query, the training wraps nearest by the lap matcher and by the exact matcher.
+
+    ``d_rows`` (n, n_rows) are lap-matcher distances to its rows (a training
+    wrap may own several: one-lap views), ``d_wraps`` (n, n_wraps) exact
+    distances; infinite distances (excluded pairs) never make a candidate.
+    """
+    n_lap, n_exact = _ELASTIC_CANDIDATES
+    out = []
+    for dr, dw in zip(d_rows, d_wraps, strict=True):
+        rows = np.argsort(dr)[: 4 * n_lap]
+        rows = rows[np.isfinite(dr[rows])]
+        owners = owner[rows]
+        _, first = np.unique(owners, return_index=True)
+        near = owners[np.sort(first)][:n_lap]
+        wraps = np.argsort(dw)[:n_exact]
+        out.append(np.union1d(near, wraps[np.isfinite(dw[wraps])]).astype(np.int64))
+    return out
+
+
 def _spectrum_features(X: FloatArray) -> FloatArray:
     """``|DFT|`` of the last lap (detrended) next to ``|DFT|`` of the whole array.
 
@@ -414,37 +508,39 @@ def _held_out_spectrum(
     return out
 
 
-def _blend(
-    s_lap: FloatArray,
-    s_exact: FloatArray | None,
-    s_spec: FloatArray | None,
-    weights: FloatArray,
-) -> FloatArray:
-    """Weighted sum of the members' class scores (members of weight 0 left out)."""
-    out = weights[0] * s_lap
-    for w, s in ((weights[1], s_exact), (weights[2], s_spec)):
+def _blend(members: list[FloatArray | None], weights: FloatArray) -> FloatArray:
+    """Weighted sum of the members' class scores (members of weight 0 left out).
+
+    ``members``: the lap matcher's scores (always there), then the exact
+    matcher's, the spectrum network's and the elastic matcher's (each may be
+    ``None`` where its weight is 0).
+    """
+    out = weights[0] * members[0]
+    for w, s in zip(weights[1:], members[1:], strict=True):
         if w > 0 and s is not None:
             out = out + w * s
     return out
 
 
-def _choose_weights(
-    s_lap: FloatArray, s_exact: FloatArray, s_spec: FloatArray | None, y: np.ndarray
-) -> FloatArray:
+def _choose_weights(members: list[FloatArray | None], y: np.ndarray) -> FloatArray:
     """Member weights with the fewest held-out errors, ties to the least log loss.
 
     Errors first: a member with sharp but often wrong probabilities can lower
-    the log loss of a blend while costing accuracy.
+    the log loss of a blend while costing accuracy. The lap matcher weighs 1.
     """
-    best, chosen = (np.inf, np.inf), np.array([1.0, 0.0, 0.0])
-    for we in _WEIGHTS:
-        for ws in _WEIGHTS if s_spec is not None else (0.0,):
-            w = np.array([1.0, we, ws])
-            blended = _blend(s_lap, s_exact, s_spec, w)
-            key = (int(np.sum(np.argmin(blended, axis=1) != y)), _log_loss(blended, y))
-            if key < best:
-                best, chosen = key, w
-    return chosen
+    grids = [(1.0,), _WEIGHTS, _WEIGHTS if members[2] is not None else (0.0,), _ELASTIC_WEIGHTS]
+    tried = []
+    for w in itertools.product(*grids):
+        blended = _blend(members, np.array(w))
+        tried.append((int(np.sum(np.argmin(blended, axis=1) != y)), w, blended))
+    fewest = min(t[0] for t in tried)
+    best, chosen = np.inf, tried[0][1]
+    for errors, w, blended in tried:
+        if errors == fewest:
+            loss = _log_loss(blended, y)
+            if loss < best:
+                best, chosen = loss, w
+    return np.array(chosen, dtype=float)
 
 
 def _median_nearest(s: FloatArray) -> float:
