@@ -130,6 +130,22 @@ def test_outline_matrix_is_symmetric_with_zero_diagonal_and_matches_the_rectangu
     np.testing.assert_array_equal(shape_distances(np.array(same)), shape_distances(same))
 
 
+def test_pair_distances_equal_the_matrix_entries():
+    from tentaclass.classifiers import _elastic
+
+    A = _elastic.resample_outlines([_star(5), _star(3, 0.2), _star(6, 0.4, phase=0.3)])
+    B = _elastic.resample_outlines([_moved(_star(5), start=40, angle=1.0, scale=2.0), _star(4)])
+    full = _elastic.elastic_distances(A, B)
+    FA, _ = _elastic.height_descriptors(A, _elastic.DENSE)
+    FB, FBm, cb = _elastic.query_descriptors(B)
+    ia, ib = np.array([2, 0, 1, 0]), np.array([1, 0, 1, 1])
+    ca = _elastic.complexity(FA)
+    d = _elastic.pair_distances(FA, ca, FB, FBm, cb, ia, ib)
+    np.testing.assert_allclose(d, full[ia, ib], rtol=1e-12)
+    assert d[1] < 0.2 * d[3]  # the star turned, scaled, from another start, against another star
+    assert _elastic.pair_distances(FA, ca, FB, FBm, cb, ia[:0], ib[:0]).size == 0
+
+
 def test_outline_distance_grows_with_deformation():
     star = _star(5, depth=0.3)
     D = shape_distances([star] + [_star(5, depth=d) for d in (0.25, 0.15, 0.05)])

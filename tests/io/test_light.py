@@ -73,10 +73,11 @@ def default_models(wraps16):
     assert rejecting.spectrum_ is not None
     # every member in the blend, whatever weights the calibration chose
     blended = TentacleClassifier().fit(X, y)
-    blended.weights_ = np.array([1.0, 0.5, 1.0])
+    # (the elastic member's descriptors are kept only where its weight was not 0)
+    blended.weights_ = np.array([1.0, 0.5, 1.0, 1.0 if len(blended.elastic_heights_) else 0.0])
     two = np.isin(y, ["circle", "square"])
     binary = TentacleClassifier().fit(X[two], y[two])
-    binary.weights_ = np.array([1.0, 0.0, 0.5])
+    binary.weights_ = np.array([1.0, 0.0, 0.5, 0.0])
     return {"thesis": small, "reject": rejecting, "blended": blended, "binary": binary}
 
 

@@ -70,8 +70,8 @@ METHODS: dict[str, Method] = {
         Method(
             "tentacle",
             TentacleClassifier,
-            "the default TentacleClassifier(): every lap found and averaged, shape matching, "
-            "calibrated",
+            "the default TentacleClassifier(): laps found and averaged; lap, last-lap and "
+            "elastic outline matchers and a spectrum network blended, calibrated",
             True,
         ),
         Method(

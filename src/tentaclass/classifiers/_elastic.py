@@ -217,3 +217,57 @@ def complexity(F: FloatArray) -> FloatArray:
     points all look alike, such as a circle: floored at 1e-12).
     """
     return np.maximum(F.std(axis=1, dtype=np.float64).sum(axis=1), 1e-12)
+
+
+@nb.njit(parallel=True, **_OPTS)
+def _pair_distances(FA, FB, FBm, ia, ib, skip_frac, n_starts):
+    # the pairs (FA[ia[p]], FB[ib[p]]) only, spread over numba's threads in blocks
+    n_pairs = ia.shape[0]
+    N = FA.shape[1]
+    D = np.empty(n_pairs)
+    block = 16
+    for task in nb.prange((n_pairs + block - 1) // block):
+        C = np.empty((N, 2 * N), dtype=np.float32)
+        score = np.empty(N)
+        tmp = np.empty(2 * N, dtype=np.float32)
+        row = np.empty(N + 1)
+        prev = np.empty(N + 1)
+        for p in range(task * block, min(n_pairs, (task + 1) * block)):
+            a, b = ia[p], ib[p]
+            d1 = _match(FA[a], FB[b], C, tmp, score, row, prev, skip_frac, n_starts)
+            d2 = _match(FA[a], FBm[b], C, tmp, score, row, prev, skip_frac, n_starts)
+            D[p] = min(d1, d2)
+    return D
+
+
+def query_descriptors(outlines: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Descriptors of resampled outlines on the query side of :func:`pair_distances`.
+
+    Returns ``(F, F_mirror, complexity)``: descriptors at half steps (n, 2N,
+    M), those of the mirror images, and each outline's complexity.
+    """
+    F, Fm = height_descriptors(outlines, DENSE // 2)
+    return F, Fm, complexity(F[:, ::2])
+
+
+def pair_distances(
+    FA: FloatArray,
+    ca: FloatArray,
+    FB: FloatArray,
+    FBm: FloatArray,
+    cb: FloatArray,
+    ia: np.ndarray,
+    ib: np.ndarray,
+) -> FloatArray:
+    """Elastic distances of the pairs ``(A[ia[p]], B[ib[p]])``, as :func:`elastic_distances`.
+
+    ``FA`` (n_a, N, M) and ``ca`` are :func:`height_descriptors` (at whole
+    steps) and :func:`complexity` of the first outlines; ``FB``, ``FBm``,
+    ``cb`` come from :func:`query_descriptors`.
+    """
+    ia = np.ascontiguousarray(ia, dtype=np.int64)
+    ib = np.ascontiguousarray(ib, dtype=np.int64)
+    if ia.size == 0:
+        return np.empty(0)
+    D = _pair_distances(FA, FB, FBm, ia, ib, SKIP, N_STARTS)
+    return D / (ca[ia] + cb[ib])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import numbers
 import warnings
 from typing import Any
@@ -23,6 +24,7 @@ from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from ..errors import InputError
 from ..features import LapSplit, last_lap, split_laps
+from . import _elastic
 from ._shift_nn import ShiftNNClassifier
 from ._tentacle_core import (
     TentacleCore,
@@ -30,6 +32,7 @@ from ._tentacle_core import (
     _arc_points,
     _blend,
     _class_minima,
+    _lap_outlines,
     _spectrum_features,
     _spectrum_scores,
     _three_or_more,
@@ -43,6 +46,8 @@ _CALIBRATION_QUERIES = 300
 _VIEWS = 2
 #: Weights tried for the exact-lap and the spectrum member (the lap matcher weighs 1).
 _WEIGHTS = (0.0, 0.25, 0.5, 1.0, 2.0)
+#: Weights tried for the elastic outline member.
+_ELASTIC_WEIGHTS = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0)
 #: Folds (over objects) giving the spectrum member's held-out probabilities.
 _INNER_FOLDS = 3
 #: The spectrum member needs this many training wraps per class (else it is left out).
@@ -59,7 +64,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     with noisy encoders. From the angles alone the classifier finds the
     approach and the length of one lap (:func:`tentaclass.features.split_laps`)
     and averages every lap it sees into one (joint noise falls with the number
-    of laps). Three members score every class:
+    of laps). Four members score every class:
 
     - the averaged lap against every training lap by the Procrustes distance
       of the rebuilt outlines, minimised over start point, rotation and mirror
@@ -73,7 +78,14 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
       sharpest with clean encoders;
     - ``|DFT|`` of the last lap and of the whole array, classified by a small
       neural network (the whole array resolves corners that a lap of few links
-      cuts).
+      cuts);
+    - the averaged lap rebuilt by forward kinematics as a closed outline and
+      matched *elastically* (height functions aligned by dynamic programming,
+      as :func:`tentaclass.shape_distances` matches outlines) against the
+      outlines of the training wraps nearest by the two matchers above (30 by
+      the lap matcher, 15 by the exact one): legs, necks and bridged slots
+      that bend from one object of a class to the next still line up. The
+      strongest member on MPEG-7 wraps.
 
     The scores (distances to each class's nearest training wrap, scaled, and
     the network's negative log probabilities) are summed with weights chosen
@@ -114,11 +126,20 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     spectrum_ : Pipeline or None
         The spectrum network (``None`` with fewer than four training wraps in
         some class).
-    weights_ : ndarray of shape (3,)
-        Weights of the three members in the blend (the first is 1).
-    lap_scale_, exact_scale_ : float
+    weights_ : ndarray of shape (4,)
+        Weights of the four members in the blend: lap matcher (1), exact
+        matcher, spectrum network, elastic matcher.
+    lap_scale_, exact_scale_, elastic_scale_ : float
         Median held-out nearest distance of each matcher: its distances are
         divided by it before blending.
+    elastic_heights_ : ndarray of shape (n_samples, 64, 20), float32
+        Height descriptors of the training wraps' lap outlines (no rows when
+        the elastic member's weight is 0).
+    elastic_complexity_ : ndarray of shape (n_samples,)
+        Their complexities (the elastic distance is divided by the sum of the
+        two outlines' complexities).
+    owner_ : ndarray of shape (n_rows,)
+        Training wrap of each row of the lap matcher.
     headings_ : ndarray of shape (n_arcs, n_points)
         Heading functions of the closed training laps (and their mirror
         images), for partial wraps.
@@ -212,6 +233,10 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         )
         # member 2: the last lap rebuilt from the joint positions, every frequency
         self.exact_ = ShiftNNClassifier(signal="shape").fit(last_lap(X3, self.n_points)[0], y_idx)
+        # member 4: the averaged lap rebuilt as an outline, matched elastically
+        outlines = _lap_outlines(split.lap)
+        self.elastic_heights_ = _elastic.height_descriptors(outlines, _elastic.DENSE)[0]
+        self.elastic_complexity_ = _elastic.complexity(self.elastic_heights_)
         # member 3: spectra of the last lap and of the whole array, a small network
         counts = np.bincount(y_idx, minlength=k)
         use_spectrum = k > 1 and counts.min() >= _SPECTRUM_MIN_PER_CLASS
@@ -219,22 +244,27 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         self.spectrum_ = _fit_spectrum(features, y_idx) if use_spectrum else None
         # held-out scores of every member on the calibration queries
         q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
-        d = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
-        d[groups[q][:, None] == groups[owner][None, :]] = np.inf
-        s_lap = _class_minima(d, self.matcher_.labels_, k)
-        d = np.sqrt(self.exact_.shift_distances(last_lap(X3[q], self.n_points)[0]))
-        d[groups[q][:, None] == groups[None, :]] = np.inf
-        s_exact = _class_minima(d, y_idx, k)
+        d_lap = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
+        d_lap[groups[q][:, None] == groups[owner][None, :]] = np.inf
+        s_lap = _class_minima(d_lap, self.matcher_.labels_, k)
+        d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X3[q], self.n_points)[0]))
+        d_exact[groups[q][:, None] == groups[None, :]] = np.inf
+        s_exact = _class_minima(d_exact, y_idx, k)
+        self.owner_ = owner
+        s_el = self._elastic_minima(split.lap[q], d_lap, d_exact)
         s_spec = None
         if use_spectrum:
             s_spec = _held_out_spectrum(features, y_idx, groups, q, k)
         self.lap_scale_ = _median_nearest(s_lap)
         self.exact_scale_ = _median_nearest(s_exact)
-        self.weights_ = _choose_weights(
-            s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec, y_idx[q]
-        )
-        blended = _blend(s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec,
-                         self.weights_)  # fmt: skip
+        self.elastic_scale_ = _median_nearest(s_el)
+        members = [s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec,
+                   s_el / self.elastic_scale_]  # fmt: skip
+        self.weights_ = _choose_weights(members, y_idx[q])
+        blended = _blend(members, self.weights_)
+        if self.weights_[3] == 0:  # not used: the model file need not hold it
+            self.elastic_heights_ = self.elastic_heights_[:0]
+            self.elastic_complexity_ = self.elastic_complexity_[:0]
         self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
             blended, y_idx[q], rate
         )
@@ -356,23 +386,25 @@ def _held_out_spectrum(
     return out
 
 
-def _choose_weights(
-    s_lap: FloatArray, s_exact: FloatArray, s_spec: FloatArray | None, y: np.ndarray
-) -> FloatArray:
+def _choose_weights(members: list[FloatArray | None], y: np.ndarray) -> FloatArray:
     """Member weights with the fewest held-out errors, ties to the least log loss.
 
     Errors first: a member with sharp but often wrong probabilities can lower
-    the log loss of a blend while costing accuracy.
+    the log loss of a blend while costing accuracy. The lap matcher weighs 1.
     """
-    best, chosen = (np.inf, np.inf), np.array([1.0, 0.0, 0.0])
-    for we in _WEIGHTS:
-        for ws in _WEIGHTS if s_spec is not None else (0.0,):
-            w = np.array([1.0, we, ws])
-            blended = _blend(s_lap, s_exact, s_spec, w)
-            key = (int(np.sum(np.argmin(blended, axis=1) != y)), _log_loss(blended, y))
-            if key < best:
-                best, chosen = key, w
-    return chosen
+    grids = [(1.0,), _WEIGHTS, _WEIGHTS if members[2] is not None else (0.0,), _ELASTIC_WEIGHTS]
+    tried = []
+    for w in itertools.product(*grids):
+        blended = _blend(members, np.array(w))
+        tried.append((int(np.sum(np.argmin(blended, axis=1) != y)), w, blended))
+    fewest = min(t[0] for t in tried)
+    best, chosen = np.inf, tried[0][1]
+    for errors, w, blended in tried:
+        if errors == fewest:
+            loss = _log_loss(blended, y)
+            if loss < best:
+                best, chosen = loss, w
+    return np.array(chosen, dtype=float)
 
 
 def _median_nearest(s: FloatArray) -> float:

@@ -14,9 +14,15 @@ from threadpoolctl import threadpool_limits
 
 from .._typing import FloatArray
 from ..features import fourier_features, last_lap, split_laps
+from ..geometry import resample_closed
 
 #: Floor of member probabilities before their logarithm is taken.
 _P_FLOOR = 1e-4
+#: Points of the rebuilt lap outline the elastic member describes.
+_ELASTIC_POINTS = 64
+#: Training wraps matched elastically per query: the nearest by the lap matcher
+#: and by the exact matcher (the elastic matcher re-ranks them).
+_ELASTIC_CANDIDATES = (30, 15)
 
 
 class TentacleCore:
@@ -31,6 +37,10 @@ class TentacleCore:
     weights_: np.ndarray
     lap_scale_: float
     exact_scale_: float
+    elastic_scale_: float
+    elastic_heights_: np.ndarray
+    elastic_complexity_: np.ndarray
+    owner_: np.ndarray
     headings_: np.ndarray
     arc_labels_: np.ndarray
     scale_: float
@@ -65,15 +75,47 @@ class TentacleCore:
     def _closed_scores(self, X: FloatArray, laps: FloatArray) -> FloatArray:
         """Blended member scores of wraps with a full lap, before the final scale."""
         k = len(self.classes_)
-        d = np.sqrt(self.matcher_.shift_distances(laps))
-        s_lap = _class_minima(d, self.matcher_.labels_, k) / self.lap_scale_
-        s_exact = s_spec = None
-        if self.weights_[1] > 0:
-            d = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
-            s_exact = _class_minima(d, self.exact_.labels_, k) / self.exact_scale_
-        if self.weights_[2] > 0:
+        d_lap = np.sqrt(self.matcher_.shift_distances(laps))
+        s_lap = _class_minima(d_lap, self.matcher_.labels_, k) / self.lap_scale_
+        s_exact = s_spec = s_el = None
+        w = self.weights_
+        if len(w) == 3:  # saved before the elastic member: three members
+            w = np.append(w, 0.0)
+        if w[1] > 0 or w[3] > 0:
+            d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
+            s_exact = _class_minima(d_exact, self.exact_.labels_, k) / self.exact_scale_
+        if w[2] > 0:
             s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
-        return _blend(s_lap, s_exact, s_spec, self.weights_)
+        if w[3] > 0:
+            s_el = self._elastic_minima(laps, d_lap, d_exact) / self.elastic_scale_
+        return _blend([s_lap, s_exact, s_spec, s_el], w)
+
+    def _elastic_minima(
+        self, laps: FloatArray, d_lap: FloatArray, d_exact: FloatArray
+    ) -> FloatArray:
+        """Elastic distance of each lap outline to each class, over candidate training wraps.
+
+        The candidates are the training wraps nearest by the lap matcher
+        (``d_lap``, over its rows) and by the exact matcher (``d_exact``);
+        a class without a candidate scores the query's largest candidate
+        distance (it was far by the other matchers).
+        """
+        from . import _elastic  # numba: imported only where the elastic member is used
+
+        labels, k = self.exact_.labels_, len(self.classes_)
+        ia = _candidates(d_lap, self.owner_, d_exact)
+        ib = np.repeat(np.arange(len(laps)), [len(c) for c in ia])
+        ia_all = np.concatenate(ia) if ia else np.empty(0, np.int64)
+        F, Fm, c = _elastic.query_descriptors(_lap_outlines(laps))
+        d = _elastic.pair_distances(
+            self.elastic_heights_, self.elastic_complexity_, F, Fm, c, ia_all, ib
+        )
+        out = np.full((len(laps), k), np.inf)
+        np.minimum.at(out, (ib, labels[ia_all]), d)
+        finite = np.isfinite(out)
+        fill = np.where(finite, out, -np.inf).max(axis=1, initial=-np.inf)
+        fill = np.where(np.isfinite(fill), fill, 1.0)
+        return np.where(finite, out, fill[:, None])
 
     def _proba_of(self, s: FloatArray, closed: np.ndarray) -> FloatArray:
         """Calibrated class probabilities from the scores of :meth:`_checked_scores`."""
@@ -105,6 +147,40 @@ def _three_or_more(X: FloatArray) -> FloatArray:
     return np.repeat(X, 3, axis=1) / 3 if X.shape[1] < 3 else X
 
 
+def _lap_outlines(laps: FloatArray) -> FloatArray:
+    """Laps (n, n_points) rebuilt as polygons of equal links, resampled for the elastic matcher.
+
+    Joint ``j`` of a lap sits at the sum of the unit links before it, each
+    turned by the turns so far: the outline the chain lay on (a partial lap is
+    closed by its chord).
+    """
+    from . import _elastic
+
+    z = np.cumsum(np.exp(1j * np.cumsum(laps, axis=1)), axis=1)
+    points = np.stack([z.real, z.imag], axis=-1)
+    return resample_closed(points, _ELASTIC_POINTS * _elastic.DENSE)
+
+
+def _candidates(d_rows: FloatArray, owner: np.ndarray, d_wraps: FloatArray) -> list[np.ndarray]:
+    """Per query, the training wraps nearest by the lap matcher and by the exact matcher.
+
+    ``d_rows`` (n, n_rows) are lap-matcher distances to its rows (a training
+    wrap may own several: one-lap views), ``d_wraps`` (n, n_wraps) exact
+    distances; infinite distances (excluded pairs) never make a candidate.
+    """
+    n_lap, n_exact = _ELASTIC_CANDIDATES
+    out = []
+    for dr, dw in zip(d_rows, d_wraps, strict=True):
+        rows = np.argsort(dr)[: 4 * n_lap]
+        rows = rows[np.isfinite(dr[rows])]
+        owners = owner[rows]
+        _, first = np.unique(owners, return_index=True)
+        near = owners[np.sort(first)][:n_lap]
+        wraps = np.argsort(dw)[:n_exact]
+        out.append(np.union1d(near, wraps[np.isfinite(dw[wraps])]).astype(np.int64))
+    return out
+
+
 def _spectrum_features(X: FloatArray) -> FloatArray:
     """``|DFT|`` of the last lap (detrended) next to ``|DFT|`` of the whole array.
 
@@ -124,15 +200,15 @@ def _spectrum_scores(model: Any, features: FloatArray, n_classes: int) -> FloatA
     return -np.log(np.maximum(p, _P_FLOOR))
 
 
-def _blend(
-    s_lap: FloatArray,
-    s_exact: FloatArray | None,
-    s_spec: FloatArray | None,
-    weights: FloatArray,
-) -> FloatArray:
-    """Weighted sum of the members' class scores (members of weight 0 left out)."""
-    out = weights[0] * s_lap
-    for w, s in ((weights[1], s_exact), (weights[2], s_spec)):
+def _blend(members: list[FloatArray | None], weights: FloatArray) -> FloatArray:
+    """Weighted sum of the members' class scores (members of weight 0 left out).
+
+    ``members``: the lap matcher's scores (always there), then the exact
+    matcher's, the spectrum network's and the elastic matcher's (each may be
+    ``None`` where its weight is 0).
+    """
+    out = weights[0] * members[0]
+    for w, s in zip(weights[1:], members[1:], strict=True):
         if w > 0 and s is not None:
             out = out + w * s
     return out

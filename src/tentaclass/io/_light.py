@@ -194,6 +194,7 @@ class _Tentacle(TentacleCore, _Light):
         | {"lap_scale_", "exact_scale_", "headings_", "arc_labels_", "scale_", "temperature_"}
         | {"partial_scale_", "partial_temperature_", "reject_distance_", "reject_margin_"}
         | {"partial_reject_distance_", "partial_reject_margin_"}
+        | {"elastic_scale_", "elastic_heights_", "elastic_complexity_", "owner_"}
     )
 
     def _check(self) -> None:
@@ -201,8 +202,10 @@ class _Tentacle(TentacleCore, _Light):
         _require(isinstance(self.n_features_in_, int) and isinstance(self.classes_, np.ndarray))
         _require(isinstance(self.matcher_, _ShiftNN) and isinstance(self.exact_, _ShiftNN))
         _require(self.spectrum_ is None or isinstance(self.spectrum_, _Pipeline))
-        _require(_is_array(self.weights_, "f", 1) and self.weights_.shape == (3,))
+        _require(_is_array(self.weights_, "f", 1) and self.weights_.shape == (4,))
         _require(self.weights_[2] == 0 or self.spectrum_ is not None)
+        _require(_is_array(self.elastic_heights_, "f", 3) and _is_array(self.owner_, "iu", 1))
+        _require(_is_array(self.elastic_complexity_, "f", 1))
         _require(_is_array(self.headings_, "f", 2) and _is_array(self.arc_labels_, "iu", 1))
 
     def predict(self, X: ArrayLike) -> np.ndarray:
