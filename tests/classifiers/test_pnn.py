@@ -5,7 +5,7 @@ from sklearn.model_selection import GridSearchCV, cross_val_score
 
 import tentaclass.classifiers._pnn_core as pnn_module
 from tentaclass.classifiers import FourierClassifier, PNNClassifier
-from tentaclass.classifiers._pnn import auto_spread
+from tentaclass.classifiers._pnn import MIN_SPREAD, auto_spread
 from tentaclass.datasets import thesis_tentacle
 
 
@@ -180,9 +180,9 @@ def test_auto_spread_on_patterns_closer_than_the_smallest_spread(spacing):
     # falls below it: 1e-155 apart once overflowed the kernel width in fit
     X = np.array([[0.0], [1.0], [2.0], [3.0]]) * spacing
     clf = PNNClassifier(spread="auto").fit(X, [0, 0, 1, 1])
-    assert pnn_module.MIN_SPREAD <= clf.spread_ < np.inf
+    assert MIN_SPREAD <= clf.spread_ < np.inf
     assert np.isfinite(clf.predict_proba(X)).all()
-    if spacing > pnn_module.MIN_SPREAD:  # told apart when the spread can resolve them
+    if spacing > MIN_SPREAD:  # told apart when the spread can resolve them
         assert clf.predict(X).tolist() == [0, 0, 1, 1]
 
 
