@@ -18,8 +18,9 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/tentaclass demo --out out
 
-# every test, slow ones included, on all cores (pytest-xdist; slow tests start first)
-PYTEST_PARALLEL ?= -n auto --dist loadgroup
+# every test, slow ones included, in one process; PYTEST_PARALLEL="-n auto --dist loadgroup"
+# spreads them over all cores (pytest-xdist; slow tests start first)
+PYTEST_PARALLEL ?=
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks examples
