@@ -193,6 +193,18 @@ def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) 
     return validate_data(estimator, X, reset=reset, **kwargs)
 
 
+def check_fitted_X(estimator: Any, X: ArrayLike) -> FloatArray:
+    """``X`` for a fitted ``estimator``: float64 rows of its ``n_features_in_`` values.
+
+    Raises scikit-learn's ``NotFittedError`` before ``fit``, and the errors of
+    :func:`check_X` (with ``reset=False``) for the array.
+    """
+    from sklearn.utils.validation import check_is_fitted
+
+    check_is_fitted(estimator)
+    return check_X(estimator, X, dtype=np.float64, reset=False)
+
+
 def check_X_y(
     estimator: Any, X: ArrayLike, y: ArrayLike, **kwargs: Any
 ) -> tuple[np.ndarray, np.ndarray]:
