@@ -239,13 +239,9 @@ def dask_client(address: str | None) -> Iterator[Any]:
         yield None
         return
     from .._dask import scheduler
+    from .._lazy import import_extra
 
-    try:
-        import distributed  # noqa: F401
-    except ImportError:
-        raise click.ClickException(
-            "--scheduler needs Dask: pip install 'tentaclass[dask]'"
-        ) from None
+    import_extra("distributed", "dask", "--scheduler needs Dask", error=click.ClickException)
     with scheduler(address, echo=lambda line: click.echo(line, err=True)) as client:
         yield client
 
