@@ -7,7 +7,7 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from typing import Any
 
 import numpy as np
@@ -229,6 +229,24 @@ def check_spread(value: object, name: str = "spread", *, minimum: float = 1e-150
     if v < minimum:
         raise InputError(f"{name} {value!r} is too small: it must be at least {minimum:g}")
     return v
+
+
+def check_choice(value: object, name: str, choices: Collection[str]) -> str:
+    """One of the strings ``choices``; the error lists them.
+
+    Examples
+    --------
+    >>> check_choice("fft", "method", ("matmul", "fft"))
+    'fft'
+    >>> check_choice("FFT", "method", ("matmul", "fft"))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: method must be one of 'matmul', 'fft', got 'FFT'
+    """
+    if not isinstance(value, str) or value not in choices:
+        listed = ", ".join(repr(c) for c in choices)
+        raise InputError(f"{name} must be one of {listed}, got {value!r}")
+    return value
 
 
 def check_fraction(value: object, name: str) -> float:

@@ -9,7 +9,7 @@ from sklearn.cluster import KMeans
 from sklearn.utils import check_random_state
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_float, check_spread
+from .._validation import check_choice, check_positive_float, check_spread
 from ..errors import InputError
 from ._base import BaseProbabilisticClassifier
 from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _evenly, _median_nn, _sq_dist
@@ -202,8 +202,7 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         self.random_state = random_state
 
     def _validate_params(self) -> None:
-        if not isinstance(self.centers, str) or self.centers not in _CENTERS:
-            raise InputError(f"centers must be one of {_CENTERS}, got {self.centers!r}")
+        check_choice(self.centers, "centers", _CENTERS)
         k = self.n_centers
         if k is not None and (isinstance(k, bool) or not isinstance(k, numbers.Integral) or k < 1):
             raise InputError(f"n_centers must be None or an integer >= 1, got {k!r}")

@@ -9,6 +9,7 @@ from sklearn.utils.multiclass import check_classification_targets
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
 from .._validation import (
+    check_choice,
     check_finite_float,
     check_fitted_X,
     check_frequency_count,
@@ -116,10 +117,8 @@ class ShiftNNClassifier(ShiftCore, DaskMixin, ClassifierMixin, BaseEstimator):
         -------
         self : ShiftNNClassifier
         """
-        if self.signal not in ("turning", "shape", "raw"):
-            raise InputError(f"signal must be 'turning', 'shape' or 'raw', got {self.signal!r}")
-        if self.closure not in ("spread", "chord"):
-            raise InputError(f"closure must be 'spread' or 'chord', got {self.closure!r}")
+        check_choice(self.signal, "signal", ("turning", "shape", "raw"))
+        check_choice(self.closure, "closure", ("spread", "chord"))
         for name in ("mirror", "center"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")

@@ -23,7 +23,7 @@ from sklearn.utils import Bunch
 from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
-from .._validation import check_positive_float, check_positive_int
+from .._validation import check_choice, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
@@ -263,8 +263,7 @@ def synthetic_tentacle(
     laps = _range(laps, "laps", allow_zero=False)
     offset = _range(offset, "offset", allow_zero=True)
     _check_random_state(random_state)
-    if mode not in ("taut", "hug"):
-        raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
+    check_choice(mode, "mode", ("taut", "hug"))
     rng = np.random.default_rng(random_state)
     cls = rng.choice(THESIS_CLASSES, n_samples)
     lap_target = rng.uniform(*laps, n_samples)
@@ -610,10 +609,8 @@ def mpeg7_tentacle(
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
     noise = check_positive_float(noise, "noise", allow_zero=True)
-    if mode not in ("taut", "hug"):
-        raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
-    if protocol not in PROTOCOLS:
-        raise InputError(f"protocol must be one of {', '.join(PROTOCOLS)}, got {protocol!r}")
+    check_choice(mode, "mode", ("taut", "hug"))
+    check_choice(protocol, "protocol", PROTOCOLS)
     laps = _range(laps, "laps", allow_zero=False)
     offset = _range(offset, "offset", allow_zero=True)
     _check_random_state(random_state)
@@ -786,8 +783,7 @@ def chain_wraps(
             f"so that links reach the object, got {offset!r}"
         )
     nlo, nhi = _noise_range(noise)
-    if mode not in ("taut", "hug", "both"):
-        raise InputError(f"mode must be 'taut', 'hug' or 'both', got {mode!r}")
+    check_choice(mode, "mode", ("taut", "hug", "both"))
     if isinstance(random_state, bool) or not isinstance(random_state, numbers.Integral):
         raise InputError(f"random_state must be an integer, got {random_state!r}")
     rng = np.random.default_rng(int(random_state))
