@@ -2,15 +2,12 @@
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 from sklearn.cluster import KMeans
 from sklearn.utils import check_random_state
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_choice, check_positive_float, check_spread
-from ..errors import InputError
+from .._validation import check_choice, check_positive_float, check_positive_int, check_spread
 from ._base import BaseProbabilisticClassifier
 from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _evenly, _median_nn, _sq_dist
 
@@ -203,9 +200,8 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
 
     def _validate_params(self) -> None:
         check_choice(self.centers, "centers", _CENTERS)
-        k = self.n_centers
-        if k is not None and (isinstance(k, bool) or not isinstance(k, numbers.Integral) or k < 1):
-            raise InputError(f"n_centers must be None or an integer >= 1, got {k!r}")
+        if self.n_centers is not None:
+            check_positive_int(self.n_centers, "n_centers")
         check_spread(self.spread, minimum=MIN_SPREAD)
         for name in ("alpha", "goal"):
             check_positive_float(getattr(self, name), name, allow_zero=True)

@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import inspect
 import json
-import numbers
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -784,9 +783,7 @@ def chain_wraps(
         )
     nlo, nhi = _noise_range(noise)
     check_choice(mode, "mode", ("taut", "hug", "both"))
-    if isinstance(random_state, bool) or not isinstance(random_state, numbers.Integral):
-        raise InputError(f"random_state must be an integer, got {random_state!r}")
-    rng = np.random.default_rng(int(random_state))
+    rng = np.random.default_rng(check_positive_int(random_state, "random_state", minimum=0))
     total = len(shapes) * n_wraps
     index = np.repeat(np.arange(len(shapes)), n_wraps)
     off = rng.uniform(offset[0] / ell, offset[1] / ell, total)  # in links
@@ -800,7 +797,7 @@ def chain_wraps(
     objs = [_rotated(unit[i], t) for i, t in zip(index, theta, strict=True)]
     if laps is not None:
         target = rng.uniform(*laps, total)
-    else:
+    elif diameters is not None:
         size = rng.uniform(*diameters, total)
         objs = [o * d for o, d in zip(objs, size, strict=True)]
     out = np.full((total, n_links), np.nan)
