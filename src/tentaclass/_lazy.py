@@ -1,4 +1,4 @@
-"""Module-level ``__getattr__`` that imports a package's public names on first use.
+"""Imports on first use: a package's public names, and the optional extras.
 
 Keeps ``import tentaclass`` and the command line's start light: scikit-learn,
 matplotlib and scipy.stats load only when a name that needs them is used.
@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Mapping
+from types import ModuleType
 from typing import Any
 
 
@@ -40,3 +41,34 @@ def lazy_exports(
         return sorted(set(namespace) | set(homes))
 
     return __getattr__, __dir__
+
+
+def import_extra(
+    name: str, extra: str, needs: str, *, error: Callable[[str], Exception] = ImportError
+) -> ModuleType:
+    """The module ``name`` of an optional extra, or ``error`` saying how to install it.
+
+    Parameters
+    ----------
+    name : str
+        Absolute module name, e.g. ``"aeon.datasets"``.
+    extra : str
+        The extra of tentaclass that installs it (``pip install 'tentaclass[extra]'``).
+    needs : str
+        What needs it, the start of the message: ``"the web page needs the 'web' extra"``.
+    error : callable, default=ImportError
+        The exception raised (from the ImportError) when the module is missing.
+
+    Examples
+    --------
+    >>> import_extra("math", "none", "nothing").sqrt(4.0)
+    2.0
+    >>> import_extra("no_such_module", "web", "the page needs it")
+    Traceback (most recent call last):
+    ...
+    ImportError: the page needs it: pip install 'tentaclass[web]'
+    """
+    try:
+        return importlib.import_module(name)
+    except ImportError as exc:
+        raise error(f"{needs}: pip install 'tentaclass[{extra}]'") from exc

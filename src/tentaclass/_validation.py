@@ -7,7 +7,7 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from typing import Any
 
 import numpy as np
@@ -193,6 +193,18 @@ def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) 
     return validate_data(estimator, X, reset=reset, **kwargs)
 
 
+def check_fitted_X(estimator: Any, X: ArrayLike) -> FloatArray:
+    """``X`` for a fitted ``estimator``: float64 rows of its ``n_features_in_`` values.
+
+    Raises scikit-learn's ``NotFittedError`` before ``fit``, and the errors of
+    :func:`check_X` (with ``reset=False``) for the array.
+    """
+    from sklearn.utils.validation import check_is_fitted
+
+    check_is_fitted(estimator)
+    return check_X(estimator, X, dtype=np.float64, reset=False)
+
+
 def check_X_y(
     estimator: Any, X: ArrayLike, y: ArrayLike, **kwargs: Any
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -217,6 +229,24 @@ def check_spread(value: object, name: str = "spread", *, minimum: float = 1e-150
     if v < minimum:
         raise InputError(f"{name} {value!r} is too small: it must be at least {minimum:g}")
     return v
+
+
+def check_choice(value: object, name: str, choices: Collection[str]) -> str:
+    """One of the strings ``choices``; the error lists them.
+
+    Examples
+    --------
+    >>> check_choice("fft", "method", ("matmul", "fft"))
+    'fft'
+    >>> check_choice("FFT", "method", ("matmul", "fft"))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: method must be one of 'matmul', 'fft', got 'FFT'
+    """
+    if not isinstance(value, str) or value not in choices:
+        listed = ", ".join(repr(c) for c in choices)
+        raise InputError(f"{name} must be one of {listed}, got {value!r}")
+    return value
 
 
 def check_fraction(value: object, name: str) -> float:

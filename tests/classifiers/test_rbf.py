@@ -147,3 +147,19 @@ def test_thesis_shapes_in_tentacle_classifier():
 def test_bad_parameters(params, match):
     with pytest.raises(ValueError, match=match):
         RBFNetworkClassifier(**params).fit([[0.0], [1.0]], [0, 1])
+
+
+@pytest.mark.parametrize(
+    "params, message",
+    [
+        ({"n_centers": 0}, "n_centers must be at least 1, got 0"),
+        ({"n_centers": 2.0}, "n_centers must be an integer"),
+        ({"centers": "grid"}, "centers must be one of 'all', 'kmeans', 'forward', got 'grid'"),
+    ],
+)
+def test_bad_parameters_are_named(params, message):
+    from tentaclass.errors import InputError
+
+    X, y = [[0.0], [1.0]], [0, 1]
+    with pytest.raises(InputError, match=message):
+        RBFNetworkClassifier(**params).fit(X, y)

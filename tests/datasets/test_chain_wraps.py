@@ -63,6 +63,7 @@ def test_both_modes_and_progress():
         ({"noise": -0.1}, "noise"),
         ({"mode": "loose"}, "mode"),
         ({"random_state": 1.5}, "random_state"),
+        ({"random_state": -1}, "random_state must be at least 0"),
         ({"outlines": [[(0, 0), (1, 1)]]}, "outlines[0]"),
     ],
 )

@@ -7,14 +7,15 @@ The predictions themselves (``predict``, ``predict_proba`` and
 
 from __future__ import annotations
 
+from typing import Self
+
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import check_is_fitted
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_X
+from .._validation import check_fitted_X, check_X_y
 from ..errors import InputError
 from ._prob_core import ProbabilisticCore, _logsumexp_rows
 
@@ -35,7 +36,36 @@ def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
 
 
 class BaseProbabilisticClassifier(ProbabilisticCore, DaskMixin, ClassifierMixin, BaseEstimator):
-    """Base class: predictions from per-class log scores."""
+    """Base class: predictions from per-class log scores.
+
+    A subclass that keeps this ``fit`` writes ``_validate_params`` (checks the
+    parameters before the data are looked at) and ``_fit`` (learns from the
+    checked training set).
+    """
+
+    def _fit(self, X: FloatArray, classes: np.ndarray, y_idx: np.ndarray) -> None:
+        """Learn from float64 rows ``X``, the sorted ``classes`` and each row's class index."""
+        raise NotImplementedError
+
+    def fit(self, X: ArrayLike, y: ArrayLike) -> Self:
+        """Check the parameters and the training set, and learn from it.
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_features)
+        y : array_like of shape (n_samples,)
+            Class labels of any type, at least two classes.
+
+        Returns
+        -------
+        self : estimator
+            The fitted classifier.
+        """
+        self._validate_params()
+        X, y = check_X_y(self, X, y, dtype=np.float64)
+        classes, y_idx = class_indices(y)
+        self._fit(X, classes, y_idx)
+        return self
 
     def _check_X(self, X: ArrayLike) -> FloatArray:
         if (
@@ -48,5 +78,4 @@ class BaseProbabilisticClassifier(ProbabilisticCore, DaskMixin, ClassifierMixin,
             and np.isfinite(X).all()
         ):
             return X  # what the full check (below) returns for it, without its overhead
-        check_is_fitted(self)
-        return check_X(self, X, dtype=np.float64, reset=False)
+        return check_fitted_X(self, X)

@@ -7,11 +7,11 @@ from typing import Any
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin, TransformerMixin, clone
 from sklearn.pipeline import Pipeline
-from sklearn.utils.validation import check_is_fitted, validate_data
 
 from .._dask import DaskMixin
 from .._deprecation import DEPRECATED, renamed_param
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_fitted_X, check_X_y
 from ..features import FourierFeatures
 from ._pnn import PNNClassifier
 
@@ -102,7 +102,7 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
         -------
         self : FourierClassifier
         """
-        X, y = validate_data(self, X, y, dtype=np.float64)
+        X, y = check_X_y(self, X, y, dtype=np.float64)
         if self.classifier is None:
             clf = PNNClassifier(spread=self.spread, reject_below=self.reject_below)
         else:
@@ -117,21 +117,17 @@ class FourierClassifier(DaskMixin, ClassifierMixin, TransformerMixin, BaseEstima
         self.classes_ = self.pipeline_.classes_
         return self
 
-    def _checked(self, X: ArrayLike) -> FloatArray:
-        check_is_fitted(self)
-        return validate_data(self, X, dtype=np.float64, reset=False)
-
     def transform(self, X: ArrayLike) -> FloatArray:
         """Feature vectors of joint-angle arrays, shape (n_samples, n_harmonics)."""
-        X = self._checked(X)
+        X = check_fitted_X(self, X)
         return self.pipeline_.named_steps["features"].transform(X)
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of each joint-angle array, shape (n_samples,)."""
-        X = self._checked(X)
+        X = check_fitted_X(self, X)
         return self.pipeline_.predict(X)
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Class probabilities, shape (n_samples, n_classes); rows sum to 1."""
-        X = self._checked(X)
+        X = check_fitted_X(self, X)
         return self.pipeline_.predict_proba(X)

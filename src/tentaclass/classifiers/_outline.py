@@ -18,9 +18,10 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import log_softmax
 from sklearn.utils import check_random_state
-from sklearn.utils.validation import validate_data
 
+from .._lazy import import_extra
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_X_y
 from ..errors import InputError
 from ..features.outline import znormalize
 from ._base import BaseProbabilisticClassifier, class_indices
@@ -43,13 +44,13 @@ _MIN_LENGTH = 9
 
 
 def _minirocket(random_state: int) -> MiniRocket:
-    try:
-        from aeon.transformations.collection.convolution_based import MiniRocket
-    except ImportError as exc:  # pragma: no cover - depends on the environment
-        raise InputError(
-            "OutlineClassifier needs aeon's MiniRocket: pip install 'tentaclass[outline]'"
-        ) from exc
-    return MiniRocket(random_state=random_state)
+    aeon = import_extra(
+        "aeon.transformations.collection.convolution_based",
+        "outline",
+        "OutlineClassifier needs aeon's MiniRocket",
+        error=InputError,
+    )
+    return aeon.MiniRocket(random_state=random_state)
 
 
 def _fit_temperature(scores: FloatArray, y: np.ndarray) -> float:
@@ -181,7 +182,7 @@ class OutlineClassifier(BaseProbabilisticClassifier):
         """
         from sklearn.linear_model import RidgeClassifier, RidgeClassifierCV
 
-        X, y = validate_data(self, X, y, dtype=np.float64)
+        X, y = check_X_y(self, X, y, dtype=np.float64)
         self.classes_, yi = class_indices(y)
         Z = self._prepare(X)
         rng = check_random_state(self.random_state)

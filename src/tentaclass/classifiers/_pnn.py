@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from .._typing import ArrayLike, FloatArray
-from .._validation import check_fraction, check_spread, check_X_y
-from ._base import BaseProbabilisticClassifier, class_indices
+from .._typing import FloatArray
+from .._validation import check_fraction, check_spread
+from ._base import BaseProbabilisticClassifier
 from ._pnn_core import MAX_BLOCK_BYTES, NEWPNN_BIAS, PNNCore
 
 __all__ = ["MAX_BLOCK_BYTES", "NEWPNN_BIAS", "PNNClassifier"]
@@ -221,22 +221,8 @@ class PNNClassifier(PNNCore, BaseProbabilisticClassifier):
             check_fraction(self.reject_below, "reject_below")
         self._compute_dtype()
 
-    def fit(self, X: ArrayLike, y: ArrayLike) -> PNNClassifier:
-        """Store the training patterns (and choose the spread if ``"auto"``).
-
-        Parameters
-        ----------
-        X : array_like of shape (n_samples, n_features)
-        y : array_like of shape (n_samples,)
-            Class labels of any type.
-
-        Returns
-        -------
-        self : PNNClassifier
-        """
-        self._validate_params()
-        X, y = check_X_y(self, X, y, dtype=np.float64)
-        classes, y_idx = class_indices(y)
+    def _fit(self, X: FloatArray, classes: np.ndarray, y_idx: np.ndarray) -> None:
+        """Store the training patterns (and choose the spread if ``"auto"``)."""
         order = np.argsort(y_idx, kind="stable")
         self.classes_ = classes
         self.patterns_ = X[order]
@@ -246,4 +232,3 @@ class PNNClassifier(PNNCore, BaseProbabilisticClassifier):
         else:
             self.spread_ = float(self.spread)
         self._prepare()
-        return self

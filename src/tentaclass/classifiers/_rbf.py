@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 from sklearn.cluster import KMeans
 from sklearn.utils import check_random_state
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_float, check_spread, check_X_y
-from ..errors import InputError
-from ._base import BaseProbabilisticClassifier, class_indices
+from .._validation import check_choice, check_positive_float, check_positive_int, check_spread
+from ._base import BaseProbabilisticClassifier
 from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _evenly, _median_nn, _sq_dist
 
 __all__ = ["RBFNetworkClassifier"]
@@ -202,31 +199,15 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         self.random_state = random_state
 
     def _validate_params(self) -> None:
-        if not isinstance(self.centers, str) or self.centers not in _CENTERS:
-            raise InputError(f"centers must be one of {_CENTERS}, got {self.centers!r}")
-        k = self.n_centers
-        if k is not None and (isinstance(k, bool) or not isinstance(k, numbers.Integral) or k < 1):
-            raise InputError(f"n_centers must be None or an integer >= 1, got {k!r}")
+        check_choice(self.centers, "centers", _CENTERS)
+        if self.n_centers is not None:
+            check_positive_int(self.n_centers, "n_centers")
         check_spread(self.spread, minimum=MIN_SPREAD)
         for name in ("alpha", "goal"):
             check_positive_float(getattr(self, name), name, allow_zero=True)
 
-    def fit(self, X: ArrayLike, y: ArrayLike) -> RBFNetworkClassifier:
-        """Choose the centres and the spread, and solve the output layer.
-
-        Parameters
-        ----------
-        X : array_like of shape (n_samples, n_features)
-        y : array_like of shape (n_samples,)
-            Class labels of any type.
-
-        Returns
-        -------
-        self : RBFNetworkClassifier
-        """
-        self._validate_params()
-        X, y = check_X_y(self, X, y, dtype=np.float64)
-        classes, y_idx = class_indices(y)
+    def _fit(self, X: FloatArray, classes: np.ndarray, y_idx: np.ndarray) -> None:
+        """Choose the centres and the spread, and solve the output layer."""
         rng = check_random_state(self.random_state)
         Y = np.eye(classes.size)[y_idx]
         n = X.shape[0]
@@ -273,7 +254,6 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         self.centers_ = np.array(centers, dtype=np.float64)
         self.n_centers_ = int(self.centers_.shape[0])
         self.coef_, self.intercept_ = _ridge(Phi, Y, alpha)
-        return self
 
     def _outputs(self, X: FloatArray) -> FloatArray:
         return _design(X, self.centers_, self.spread_) @ self.coef_ + self.intercept_

@@ -5,11 +5,16 @@ from __future__ import annotations
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import check_is_fitted
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_finite_float, check_frequency_count, check_X, check_X_y
+from .._validation import (
+    check_choice,
+    check_finite_float,
+    check_fitted_X,
+    check_frequency_count,
+    check_X_y,
+)
 from ..errors import InputError
 from ._shift_core import ShiftCore
 
@@ -112,10 +117,8 @@ class ShiftNNClassifier(ShiftCore, DaskMixin, ClassifierMixin, BaseEstimator):
         -------
         self : ShiftNNClassifier
         """
-        if self.signal not in ("turning", "shape", "raw"):
-            raise InputError(f"signal must be 'turning', 'shape' or 'raw', got {self.signal!r}")
-        if self.closure not in ("spread", "chord"):
-            raise InputError(f"closure must be 'spread' or 'chord', got {self.closure!r}")
+        check_choice(self.signal, "signal", ("turning", "shape", "raw"))
+        check_choice(self.closure, "closure", ("spread", "chord"))
         for name in ("mirror", "center"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
@@ -144,8 +147,7 @@ class ShiftNNClassifier(ShiftCore, DaskMixin, ClassifierMixin, BaseEstimator):
         -------
         d2 : ndarray of shape (n_queries, n_train)
         """
-        check_is_fitted(self)
-        return self._shift_distances(check_X(self, X, dtype=np.float64, reset=False))
+        return self._shift_distances(check_fitted_X(self, X))
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of the nearest training signal, shape (n_queries,).
@@ -156,6 +158,5 @@ class ShiftNNClassifier(ShiftCore, DaskMixin, ClassifierMixin, BaseEstimator):
         distance between the magnitude spectra, which no shift, mirror image
         or rotation changes, bounds the shift distance from below.
         """
-        check_is_fitted(self)
-        X = check_X(self, X, dtype=np.float64, reset=False)
-        return self.classes_[self.labels_[self._nearest(X)]]
+        nearest = self._nearest(check_fitted_X(self, X))
+        return self.classes_[self.labels_[nearest]]

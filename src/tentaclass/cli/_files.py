@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from .._dask import atomic_output
+from .._lazy import import_extra
 from ..report import classification_table
 from .options import read_angle_file
 
@@ -189,12 +190,7 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
     """
     if out_dir is None:
         raise ValueError("--files needs --out-dir, the folder for the per-file results")
-    try:
-        import pyarrow  # noqa: F401
-    except ImportError:
-        raise ValueError(
-            "classify --files writes with pyarrow: pip install 'tentaclass[dask]'"
-        ) from None
+    import_extra("pyarrow", "dask", "classify --files writes with pyarrow", error=ValueError)
     inputs = expand(pattern, ANGLE_SUFFIXES)
     if n_joints is not None:
         for path in inputs:

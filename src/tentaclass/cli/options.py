@@ -11,7 +11,7 @@ import functools
 import re
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, TypeVar, cast
+from typing import TYPE_CHECKING, Any, TypeVar, cast
 
 import click
 import numpy as np
@@ -22,6 +22,9 @@ _ANGLE = re.compile(
     re.IGNORECASE,
 )
 _SPLIT = re.compile(r"[\s,;]+")
+
+if TYPE_CHECKING:
+    from rich.progress import Progress
 
 _Command = TypeVar("_Command", bound=Callable[..., Any])
 
@@ -63,17 +66,24 @@ def parse_angle_list(text: str) -> np.ndarray:
     return np.array([parse_angle(t) for t in tokens])
 
 
+def load_npy(path: Path) -> np.ndarray:
+    """The array of a ``.npy`` file; ValueError naming the file when it is not one.
+
+    Arrays of Python objects (pickles) are refused.
+    """
+    with open(path, "rb") as fh:
+        if fh.read(6) != b"\x93NUMPY":
+            raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
+    try:
+        return np.load(path, allow_pickle=False)
+    except (ValueError, OSError) as exc:
+        raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
+
+
 def read_angle_file(path: Path) -> np.ndarray:
     """Arrays of joint angles from a ``.npy`` file or a text/CSV file, one per row."""
     if path.suffix.lower() == ".npy":
-        with open(path, "rb") as fh:
-            magic = fh.read(6)
-        if magic != b"\x93NUMPY":
-            raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
-        try:
-            arr = np.load(path, allow_pickle=False)
-        except (ValueError, OSError) as exc:
-            raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
+        arr = load_npy(path)
         if (
             arr.ndim not in (1, 2)
             or not np.issubdtype(arr.dtype, np.number)
@@ -232,6 +242,31 @@ def files_options(suffix_help: str) -> Callable:
     return decorate
 
 
+def progress_bar(label: str = "{task.description}", *, counts: str = "items") -> Progress:
+    """A rich progress bar on standard error, gone when it stops.
+
+    ``label`` is the text before the bar (by default each task's description);
+    ``counts`` is ``"items"`` (done / total) or ``"bytes"`` (a download size).
+    """
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        DownloadColumn,
+        MofNCompleteColumn,
+        Progress,
+        TimeRemainingColumn,
+    )
+
+    return Progress(
+        f"[progress.description]{label}",
+        BarColumn(),
+        DownloadColumn() if counts == "bytes" else MofNCompleteColumn(),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    )
+
+
 @contextlib.contextmanager
 def dask_client(address: str | None) -> Iterator[Any]:
     """The client for ``--scheduler`` (None without it); the dashboard goes to stderr."""
@@ -239,13 +274,9 @@ def dask_client(address: str | None) -> Iterator[Any]:
         yield None
         return
     from .._dask import scheduler
+    from .._lazy import import_extra
 
-    try:
-        import distributed  # noqa: F401
-    except ImportError:
-        raise click.ClickException(
-            "--scheduler needs Dask: pip install 'tentaclass[dask]'"
-        ) from None
+    import_extra("distributed", "dask", "--scheduler needs Dask", error=click.ClickException)
     with scheduler(address, echo=lambda line: click.echo(line, err=True)) as client:
         yield client
 

@@ -25,7 +25,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import files_options, random_state_option, scheduler_option
+from .options import files_options, progress_bar, random_state_option, scheduler_option
 
 
 class _CountingReader:
@@ -41,20 +41,7 @@ class _CountingReader:
 
 
 def _progress(total: int | None, enabled: bool) -> Any:
-    if not enabled or not total:
-        return None
-    from rich.console import Console
-    from rich.progress import BarColumn, DownloadColumn, Progress, TimeRemainingColumn
-
-    progress = Progress(
-        "[progress.description]{task.description}",
-        BarColumn(),
-        DownloadColumn(),
-        TimeRemainingColumn(),
-        console=Console(file=sys.stderr),
-        transient=True,
-    )
-    return progress
+    return progress_bar(counts="bytes") if enabled and total else None
 
 
 def _one_line(exc: BaseException) -> str:

@@ -20,14 +20,15 @@ def serve(host: str, port: int, data_dir: Path | None) -> None:
     Open the printed address in a browser; the JSON API is documented at /docs.
     Needs the web extra: pip install 'tentaclass[web]'.
     """
-    try:
-        import uvicorn
+    from .._lazy import import_extra
 
-        from ..web import create_app
-    except ImportError:
-        raise click.ClickException(
-            "the web page needs the 'web' extra: pip install 'tentaclass[web]'"
-        ) from None
+    needs = "the web page needs the 'web' extra"
+    for module in ("uvicorn", "tentaclass.web._app"):
+        import_extra(module, "web", needs, error=click.ClickException)
+    import uvicorn
+
+    from ..web import create_app
+
     shown = f"[{host}]" if ":" in host else host
 
     class AnnouncingServer(uvicorn.Server):

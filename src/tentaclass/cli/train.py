@@ -7,7 +7,7 @@ import glob
 import re
 import zipfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import click
 import numpy as np
@@ -17,15 +17,13 @@ from ..io import save_model
 from .options import (
     dask_client,
     finite,
+    load_npy,
     parse_angle,
     predict_on,
+    progress_bar,
     random_state_option,
     scheduler_option,
 )
-
-if TYPE_CHECKING:
-    from rich.console import Console
-    from rich.progress import Progress
 
 
 class Spread(click.ParamType):
@@ -189,13 +187,7 @@ def read_outline(path: Path) -> np.ndarray:
             raise ValueError(f"{path}: the image holds no object (nonzero pixels)")
         return from_mask(mask)
     if suffix == ".npy":
-        with open(path, "rb") as fh:
-            if fh.read(6) != b"\x93NUMPY":
-                raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
-        try:
-            points = np.load(path, allow_pickle=False)
-        except (ValueError, OSError) as exc:
-            raise ValueError(f"{path}: not a readable .npy file ({exc})") from None
+        points = load_npy(path)
     else:
         try:
             rows = [r for r in csv.reader(path.read_text().splitlines()) if r and any(r)]
@@ -235,25 +227,6 @@ def _pair(
     return values[0], values[1]
 
 
-def _progress_bar(total_label: str) -> Progress:
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
-
-    return Progress(
-        f"[progress.description]{total_label}",
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeRemainingColumn(),
-        console=_stderr_console(),
-        transient=True,
-    )
-
-
-def _stderr_console() -> Console:
-    from rich.console import Console
-
-    return Console(stderr=True)
-
-
 def train_for_chain(
     files: list[Path],
     labels: list[str],
@@ -278,7 +251,7 @@ def train_for_chain(
     y_files = np.array(labels)
     settings: dict[str, Any] = {"link_length": link_length, "laps": laps, "diameters": diameters,
                 "offset": offset, "noise": noise, "mode": mode}  # fmt: skip
-    with _progress_bar("wrapping") as bar:
+    with progress_bar("wrapping") as bar:
         task = bar.add_task("wraps", total=len(outlines) * n_wraps, visible=not quiet)
         train = chain_wraps(
             outlines, n_links, n_wraps=n_wraps, random_state=random_state,

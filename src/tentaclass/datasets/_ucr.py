@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 from sklearn.utils import Bunch
 
+from .._lazy import import_extra
 from ..errors import InputError
 
 #: Shape-outline data sets that aeon ships inside its package (no download).
@@ -38,15 +39,12 @@ def ucr_shapes(name: str) -> Bunch:
     """
     if name not in UCR_SHAPES:
         raise InputError(f"unknown UCR data set {name!r}; choose from {', '.join(UCR_SHAPES)}")
-    try:
-        from aeon.datasets import load_classification
-    except ImportError as exc:
-        raise InputError(
-            f"the UCR data set {name!r} needs aeon: pip install 'tentaclass[bench]'"
-        ) from exc
+    aeon = import_extra(
+        "aeon.datasets", "bench", f"the UCR data set {name!r} needs aeon", error=InputError
+    )
     parts = []
     for split in ("train", "test"):
-        X, y = load_classification(name, split=split)
+        X, y = aeon.load_classification(name, split=split)
         parts.append((np.asarray(X, dtype=np.float64)[:, 0, :], np.asarray(y).astype(str), split))
     return _split_bunch(parts, f"UCR {name}, official split, from the copy aeon ships.")
 

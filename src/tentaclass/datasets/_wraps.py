@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import inspect
 import json
-import numbers
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -23,7 +22,7 @@ from sklearn.utils import Bunch
 from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
-from .._validation import check_positive_float, check_positive_int
+from .._validation import check_choice, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
@@ -263,8 +262,7 @@ def synthetic_tentacle(
     laps = _range(laps, "laps", allow_zero=False)
     offset = _range(offset, "offset", allow_zero=True)
     _check_random_state(random_state)
-    if mode not in ("taut", "hug"):
-        raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
+    check_choice(mode, "mode", ("taut", "hug"))
     rng = np.random.default_rng(random_state)
     cls = rng.choice(THESIS_CLASSES, n_samples)
     lap_target = rng.uniform(*laps, n_samples)
@@ -610,10 +608,8 @@ def mpeg7_tentacle(
     n_links = check_positive_int(n_links, "n_links", minimum=3)
     copies = check_positive_int(copies, "copies")
     noise = check_positive_float(noise, "noise", allow_zero=True)
-    if mode not in ("taut", "hug"):
-        raise InputError(f"mode must be 'taut' or 'hug', got {mode!r}")
-    if protocol not in PROTOCOLS:
-        raise InputError(f"protocol must be one of {', '.join(PROTOCOLS)}, got {protocol!r}")
+    check_choice(mode, "mode", ("taut", "hug"))
+    check_choice(protocol, "protocol", PROTOCOLS)
     laps = _range(laps, "laps", allow_zero=False)
     offset = _range(offset, "offset", allow_zero=True)
     _check_random_state(random_state)
@@ -786,11 +782,8 @@ def chain_wraps(
             f"so that links reach the object, got {offset!r}"
         )
     nlo, nhi = _noise_range(noise)
-    if mode not in ("taut", "hug", "both"):
-        raise InputError(f"mode must be 'taut', 'hug' or 'both', got {mode!r}")
-    if isinstance(random_state, bool) or not isinstance(random_state, numbers.Integral):
-        raise InputError(f"random_state must be an integer, got {random_state!r}")
-    rng = np.random.default_rng(int(random_state))
+    check_choice(mode, "mode", ("taut", "hug", "both"))
+    rng = np.random.default_rng(check_positive_int(random_state, "random_state", minimum=0))
     total = len(shapes) * n_wraps
     index = np.repeat(np.arange(len(shapes)), n_wraps)
     off = rng.uniform(offset[0] / ell, offset[1] / ell, total)  # in links
@@ -804,7 +797,7 @@ def chain_wraps(
     objs = [_rotated(unit[i], t) for i, t in zip(index, theta, strict=True)]
     if laps is not None:
         target = rng.uniform(*laps, total)
-    else:
+    elif diameters is not None:
         size = rng.uniform(*diameters, total)
         objs = [o * d for o, d in zip(objs, size, strict=True)]
     out = np.full((total, n_links), np.nan)

@@ -30,7 +30,7 @@ import numpy as np
 from .._dask import blockwise
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_angle_array, check_positive_float, check_positive_int
+from .._validation import as_angle_array, check_choice, check_positive_float, check_positive_int
 from ..errors import InputError
 
 __all__ = ["dft_layer", "fourier_features"]
@@ -337,8 +337,7 @@ def fourier_features(
             f"n_harmonics must be at most floor(n_joints / 2) = {n // 2} "
             f"for {n} joints, got {n_harmonics}"
         )
-    if method not in ("auto", "matmul", "fft"):
-        raise InputError(f"method must be one of 'auto', 'matmul', 'fft', got {method!r}")
+    check_choice(method, "method", ("auto", "matmul", "fft"))
     if method == "auto":
         method = "matmul" if n <= MATMUL_MAX_JOINTS else "fft"
     batch = q.shape[:-1]

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_float_array, check_positive_int
+from .._validation import as_float_array, check_choice, check_positive_int
 from ..errors import InputError, ShapeError
 from ..geometry import points_to_angles, resample_closed
 from .turning import periodic_signal
@@ -59,8 +59,7 @@ def outline_to_series(
     >>> outline_to_series(square(2.0), 8, signature="turning").round(2).tolist()
     [0.39, -0.39, 0.39, -0.39, 0.39, -0.39, 0.39, -0.39]
     """
-    if signature not in SIGNATURES:
-        raise InputError(f"signature must be one of {', '.join(SIGNATURES)}, got {signature!r}")
+    check_choice(signature, "signature", SIGNATURES)
     n = check_positive_int(n_points, "n_points", minimum=8)
     pts = as_float_array(outline, "outline", min_ndim=2)
     if pts.ndim != 2 or pts.shape[1] != 2:

@@ -16,7 +16,13 @@ from sklearn.utils.validation import check_is_fitted
 from .._dask import DaskMixin
 from .._deprecation import DEPRECATED, renamed_attribute, renamed_param
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_finite_float, check_frequency_count, check_positive_int, check_X
+from .._validation import (
+    check_finite_float,
+    check_fitted_X,
+    check_frequency_count,
+    check_positive_int,
+    check_X,
+)
 from ..errors import InputError
 from ._transform_core import AngleSpectrumCore, FourierFeaturesCore, LastLapCore
 
@@ -34,7 +40,44 @@ def _check_joint_angles(estimator: BaseEstimator, X: ArrayLike) -> FloatArray:
     return X
 
 
-class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEstimator):
+class _AngleTransformer(DaskMixin, TransformerMixin, BaseEstimator):
+    """A transformer of joint-angle rows: ``transform`` checks them, ``_transform`` computes."""
+
+    def _transform(self, X: FloatArray) -> FloatArray:
+        raise NotImplementedError
+
+    def transform(self, X: ArrayLike) -> FloatArray:
+        """The output of each row (described in the class docstring).
+
+        Parameters
+        ----------
+        X : array_like of shape (n_samples, n_joints)
+
+        Returns
+        -------
+        out : ndarray of shape (n_samples, n_out)
+        """
+        return self._transform(check_fitted_X(self, X))
+
+
+class _NumberedHarmonics:
+    """``n_harmonics_`` output columns, named by a prefix and the frequency they hold."""
+
+    #: Name of column ``k`` is ``f"{_prefix}{k + _first}"``.
+    _prefix: str
+    _first: int
+    n_harmonics_: int
+
+    n_coeffs_ = renamed_attribute("n_harmonics_", "n_coeffs_")
+
+    def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
+        """Names of the output columns: prefix and frequency (``fourier1``, ``spectrum0``)."""
+        check_is_fitted(self)
+        frequencies = range(self._first, self._first + self.n_harmonics_)
+        return np.array([f"{self._prefix}{k}" for k in frequencies], dtype=object)
+
+
+class FourierFeatures(FourierFeaturesCore, _NumberedHarmonics, _AngleTransformer):
     """Joint angles -> ``|DFT|`` of the periodic turning signal, as a transformer.
 
     Parameters
@@ -75,6 +118,8 @@ class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEsti
     (4, 4)
     """
 
+    _prefix, _first = "fourier", 1
+
     def __init__(
         self,
         n_harmonics: int | float | None = None,
@@ -88,8 +133,6 @@ class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEsti
         self.normalize = normalize
         self.weight_power = weight_power
         self.n_coeffs = n_coeffs
-
-    n_coeffs_ = renamed_attribute("n_harmonics_", "n_coeffs_")
 
     def fit(self, X: ArrayLike, y: ArrayLike | None = None) -> FourierFeatures:
         """Check ``X`` and fix the number of joints and coefficients.
@@ -112,28 +155,8 @@ class FourierFeatures(FourierFeaturesCore, DaskMixin, TransformerMixin, BaseEsti
         check_finite_float(self.weight_power, "weight_power")
         return self
 
-    def transform(self, X: ArrayLike) -> FloatArray:
-        """Fourier features of each row.
 
-        Parameters
-        ----------
-        X : array_like of shape (n_samples, n_joints)
-
-        Returns
-        -------
-        features : ndarray of shape (n_samples, n_harmonics_)
-        """
-        check_is_fitted(self)
-        X = check_X(self, X, dtype=np.float64, reset=False)
-        return self._transform(X)
-
-    def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
-        """Names ``fourier1 .. fourierK`` of the output columns."""
-        check_is_fitted(self)
-        return np.array([f"fourier{k}" for k in range(1, self.n_harmonics_ + 1)], dtype=object)
-
-
-class LastLap(LastLapCore, DaskMixin, TransformerMixin, BaseEstimator):
+class LastLap(LastLapCore, _AngleTransformer):
     """Joint angles of any wrap -> its last full lap as a closed array.
 
     A transformer around :func:`tentaclass.features.last_lap`: removes the
@@ -178,14 +201,8 @@ class LastLap(LastLapCore, DaskMixin, TransformerMixin, BaseEstimator):
         )
         return self
 
-    def transform(self, X: ArrayLike) -> FloatArray:
-        """The last lap of each row, shape (n_samples, n_out_)."""
-        check_is_fitted(self)
-        X = check_X(self, X, dtype=np.float64, reset=False)
-        return self._transform(X)
 
-
-class AngleSpectrum(AngleSpectrumCore, DaskMixin, TransformerMixin, BaseEstimator):
+class AngleSpectrum(AngleSpectrumCore, _NumberedHarmonics, _AngleTransformer):
     """Joint angles -> ``|DFT|`` of the angle array itself, as a transformer.
 
     Where :class:`FourierFeatures` describes one closed lap, this describes the
@@ -219,11 +236,11 @@ class AngleSpectrum(AngleSpectrumCore, DaskMixin, TransformerMixin, BaseEstimato
     array([[0.3927, 0.    , 0.    , 0.    , 0.3927]])
     """
 
+    _prefix, _first = "spectrum", 0
+
     def __init__(self, n_harmonics: int | None = None, n_coeffs: Any = DEPRECATED):
         self.n_harmonics = n_harmonics
         self.n_coeffs = n_coeffs
-
-    n_coeffs_ = renamed_attribute("n_harmonics_", "n_coeffs_")
 
     def fit(self, X: ArrayLike, y: ArrayLike | None = None) -> AngleSpectrum:
         """Check ``X`` and the number of coefficients.
@@ -247,23 +264,3 @@ class AngleSpectrum(AngleSpectrumCore, DaskMixin, TransformerMixin, BaseEstimato
             )
         self.n_harmonics_ = int(k)
         return self
-
-    def transform(self, X: ArrayLike) -> FloatArray:
-        """``|rfft(q)| / n_joints``, frequencies ``0 .. n_harmonics_ - 1``.
-
-        Parameters
-        ----------
-        X : array_like of shape (n_samples, n_joints)
-
-        Returns
-        -------
-        features : ndarray of shape (n_samples, n_harmonics_)
-        """
-        check_is_fitted(self)
-        X = check_X(self, X, dtype=np.float64, reset=False)
-        return self._transform(X)
-
-    def get_feature_names_out(self, input_features: ArrayLike | None = None) -> np.ndarray:
-        """Names ``spectrum0 .. spectrumK-1`` of the output columns."""
-        check_is_fitted(self)
-        return np.array([f"spectrum{k}" for k in range(self.n_harmonics_)], dtype=object)

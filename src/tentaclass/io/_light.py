@@ -112,8 +112,13 @@ def _require(ok: bool) -> None:
 
 
 class _Transformer(_Light):
+    #: The fitted output size: its attribute and least value.
+    size: tuple[str, int]
+
     def _check(self) -> None:
-        _require(isinstance(self.n_features_in_, int))
+        name, least = self.size
+        value = getattr(self, name)
+        _require(isinstance(self.n_features_in_, int) and isinstance(value, int) and value >= least)
 
     def _transform(self, X: FloatArray) -> FloatArray:
         raise NotImplementedError
@@ -125,29 +130,23 @@ class _Transformer(_Light):
 class _FourierFeatures(FourierFeaturesCore, _Transformer):
     params = frozenset({"n_harmonics", "detrend", "normalize", "weight_power"})
     state = frozenset({"n_harmonics_", "n_features_in_"})
+    size = ("n_harmonics_", 1)
 
     def _check(self) -> None:
         super()._check()
-        _require(isinstance(self.n_harmonics_, int) and self.n_harmonics_ >= 1)
         _require(isinstance(self.weight_power, int | float) and np.isfinite(self.weight_power))
 
 
 class _LastLap(LastLapCore, _Transformer):
     params = frozenset({"n_out"})
     state = frozenset({"n_out_", "n_features_in_"})
-
-    def _check(self) -> None:
-        super()._check()
-        _require(isinstance(self.n_out_, int) and self.n_out_ >= 2)
+    size = ("n_out_", 2)
 
 
 class _AngleSpectrum(AngleSpectrumCore, _Transformer):
     params = frozenset({"n_harmonics"})
     state = frozenset({"n_harmonics_", "n_features_in_"})
-
-    def _check(self) -> None:
-        super()._check()
-        _require(isinstance(self.n_harmonics_, int) and self.n_harmonics_ >= 1)
+    size = ("n_harmonics_", 1)
 
 
 class _PNN(PNNCore, _Light):

@@ -19,6 +19,7 @@ from .._validation import (
     as_joint_arrays,
     as_times,
     as_torques,
+    check_choice,
     check_link_parameters,
     check_positive_float,
 )
@@ -530,8 +531,7 @@ class PlanarChain:
         """
         q0, qd0 = self._joints(q0=q0, qd0=qd0)
         times = as_times(t)
-        if method not in STEPPERS:
-            raise InputError(f"method must be one of {sorted(STEPPERS)}, got {method!r}")
+        check_choice(method, "method", sorted(STEPPERS))
         if torque_fn is not None and not callable(torque_fn):
             raise InputError(f"torque_fn must be callable or None, got {torque_fn!r}")
 

@@ -25,13 +25,14 @@ __all__ = [
 ]
 
 
-def _one(q: ArrayLike) -> np.ndarray:
+def _one_on(q: ArrayLike, ax: Any) -> tuple[np.ndarray, Any]:
+    """The one joint-angle array to draw, and the axes to draw it on (new for ``None``)."""
     q = as_angle_array(q, "q")
     if q.ndim != 1:
         raise ValueError(
             f"plotting takes one joint-angle array of shape (n_joints,), got {q.shape}"
         )
-    return q
+    return q, axes_or_new(ax)
 
 
 def _label(ax: Any, x: str, y: str, title: str) -> None:
@@ -42,8 +43,7 @@ def _label(ax: Any, x: str, y: str, title: str) -> None:
 
 def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the chain traced by the joint angles (unit links); returns the lines."""
-    q = _one(q)
-    ax = axes_or_new(ax)
+    q, ax = _one_on(q, ax)
     p = angles_to_points(q)
     kwargs.setdefault("marker", "o")
     lines = ax.plot(p[:, 0], p[:, 1], **kwargs)
@@ -55,21 +55,17 @@ def plot_shape(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
 
 def plot_turning(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the turning function t_k as a step plot; returns the lines."""
-    q = _one(q)
-    ax = axes_or_new(ax)
-    k = np.arange(1, q.size + 1)
-    lines = ax.step(k, turning_function(q), where="post", **kwargs)
+    q, ax = _one_on(q, ax)
+    lines = ax.step(np.arange(1, q.size + 1), turning_function(q), where="post", **kwargs)
     _label(ax, "link k", "t_k [rad]", "turning function")
     return lines
 
 
 def plot_periodic_signal(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
     """Draw the periodic signal E_k = t_k - 2 pi k / n (eq 4.5); returns the lines."""
-    q = _one(q)
-    ax = axes_or_new(ax)
-    k = np.arange(1, q.size + 1)
+    q, ax = _one_on(q, ax)
     e = without_rounding_noise(periodic_signal(q), 2 * np.pi)
-    lines = ax.plot(k, e, marker=".", **kwargs)
+    lines = ax.plot(np.arange(1, q.size + 1), e, marker=".", **kwargs)
     ax.axhline(0, color="grey", lw=0.5)
     if not e.any():  # a regular polygon: show the zero line on a readable scale
         ax.set_ylim(-1, 1)
@@ -79,8 +75,7 @@ def plot_periodic_signal(q: ArrayLike, ax: Any = None, **kwargs: Any) -> list:
 
 def plot_features(q: ArrayLike, ax: Any = None, **kwargs: Any) -> Any:
     """Bar chart of the Fourier features |DFT(E)|_k; returns the bar container."""
-    q = _one(q)
-    ax = axes_or_new(ax)
+    q, ax = _one_on(q, ax)
     f = without_rounding_noise(fourier_features(q), 2 * np.pi * q.size)
     bars = ax.bar(np.arange(1, f.size + 1), f, **kwargs)
     if not f.any():  # a regular polygon: every feature is zero

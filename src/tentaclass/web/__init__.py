@@ -34,11 +34,9 @@ __all__ = [
 
 def __getattr__(name: str) -> Any:
     if name == "create_app":
-        try:
-            from ._app import create_app
-        except ImportError as exc:  # pragma: no cover - depends on the environment
-            raise ImportError(
-                "the web page needs the 'web' extra: pip install 'tentaclass[web]'"
-            ) from exc
-        return create_app
+        from .._lazy import import_extra
+
+        return import_extra(
+            f"{__name__}._app", "web", "the web page needs the 'web' extra"
+        ).create_app
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

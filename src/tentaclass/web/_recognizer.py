@@ -19,16 +19,6 @@ from ..errors import InputError
 from ..features import last_lap
 from ..shapes import from_stroke
 
-__all__ = [
-    "MIN_EXAMPLES",
-    "N_LINKS",
-    "OUTLINE_POINTS",
-    "Answer",
-    "Recognizer",
-    "build_model",
-    "outline_angles",
-]
-
 #: Links of the recognition chain: a closed chain of equal links whose joints lie
 #: on the outline (one lap), the array every answer is computed from.
 N_LINKS = 64
