@@ -203,7 +203,12 @@ class _Writer:
             return {"__strings__": flat, "shape": list(arr.shape)}
         _savable_dtype(arr.dtype, where)
         name = f"a{len(self.arrays)}"
-        self.arrays[name] = np.ascontiguousarray(arr)
+        # Fortran-ordered arrays stay so (the .npy header records it): a model
+        # reloaded with another memory order takes other BLAS paths and can
+        # differ from the saved one in the last bits.
+        if not arr.flags.f_contiguous:
+            arr = np.ascontiguousarray(arr)
+        self.arrays[name] = arr
         return {"__array__": name}
 
     def estimator(self, est: Any, where: str) -> dict:
