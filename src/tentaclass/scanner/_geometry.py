@@ -446,8 +446,8 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
 
 @nb.njit(**_OPTS)
 def defect_groups(
-    flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts,
-    vert_starts, circles, limits, extents, margin, min_hole_area, min_burr_area,
+    flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts, vert_lo,
+    vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
 ):  # fmt: skip
     """Holes, and groups of missing and extra pixels large and deep enough, of every object.
 
@@ -458,8 +458,8 @@ def defect_groups(
     points; on a canvas of ``canvas[i]`` pixels whose top-left pixel is at
     ``lo[i]`` in mask coordinates. ``limits[i]`` are the smallest area and
     depth of a group, the corner radius and a fifth of the outline's area;
-    ``extents[i]`` the grid in mask coordinates; ``verts`` the outline
-    vertices that mark broken corners.
+    ``extents[i]`` the grid in mask coordinates; ``verts[vert_lo[i]:vert_hi[i]]``
+    the outline vertices that mark broken corners.
 
     Returns ``ints`` (one row per group: object, code, area, row0, col0, row1,
     col1; box in mask coordinates) and ``floats`` (centroid row, column,
@@ -547,7 +547,7 @@ def defect_groups(
                     else:
                         code = BITE
                         near = np.inf
-                        for v in range(vert_starts[i], vert_starts[i + 1]):
+                        for v in range(vert_lo[i], vert_hi[i]):
                             vx, vy = verts[v, 0] - lo1, verts[v, 1] - lo0
                             for p in range(a, b):
                                 near = min(near, np.hypot(vx - cc[p], vy - rr[p]))
@@ -594,20 +594,22 @@ def _obtuse(x0, y0, x1, y1, x2, y2):
 
 
 @nb.njit(**_OPTS)
-def bounding_radius(px, py):
-    """Radius of the smallest circle around a convex ring's vertices (not closed).
+def bounding_circle(px, py):
+    """Centre and radius of the smallest circle around a convex ring's vertices (not closed).
 
     The algorithm and arithmetic of GEOS's MinimumBoundingCircle (walk from
     the lowest point, then the point of least angle with the x axis, to the
-    pair or triple of points that fixes the circle), so the radius is the one
-    :func:`shapely.minimum_bounding_radius` gives for the same ring.
+    pair or triple of points that fixes the circle), so centre and radius are
+    those :func:`shapely.minimum_bounding_circle` and
+    :func:`shapely.minimum_bounding_radius` give for the same ring. Returns
+    ``(cx, cy, radius)``.
     """
     n = px.shape[0]
     if n == 1:
-        return 0.0
+        return px[0], py[0], 0.0
     if n == 2:
         cx, cy = (px[0] + px[1]) / 2.0, (py[0] + py[1]) / 2.0
-        return np.sqrt((cx - px[0]) ** 2 + (cy - py[0]) ** 2)
+        return cx, cy, np.sqrt((cx - px[0]) ** 2 + (cy - py[0]) ** 2)
     p = 0
     for i in range(n):
         if py[i] < py[p]:
@@ -634,7 +636,7 @@ def bounding_radius(px, py):
         if _obtuse(px[p], py[p], px[r], py[r], px[q], py[q]):
             cx, cy = (px[p] + px[q]) / 2.0, (py[p] + py[q]) / 2.0
             dx, dy = cx - px[p], cy - py[p]
-            return np.sqrt(dx * dx + dy * dy)
+            return cx, cy, np.sqrt(dx * dx + dy * dy)
         if _obtuse(px[r], py[r], px[p], py[p], px[q], py[q]):
             p = r
             continue
@@ -651,8 +653,14 @@ def bounding_radius(px, py):
         cx = ccx - numx / denom
         cy = ccy + numy / denom
         dx, dy = cx - px[p], cy - py[p]
-        return np.sqrt(dx * dx + dy * dy)
-    return np.nan
+        return cx, cy, np.sqrt(dx * dx + dy * dy)
+    return np.nan, np.nan, np.nan
+
+
+@nb.njit(**_OPTS)
+def bounding_radius(px, py):
+    """Radius of :func:`bounding_circle` (:func:`shapely.minimum_bounding_radius`)."""
+    return bounding_circle(px, py)[2]
 
 
 @nb.njit(**_OPTS)
@@ -1022,3 +1030,200 @@ def min_area_rectangles(coords, ring_starts):
     for i in range(n):
         min_area_rectangle(coords[ring_starts[i] : ring_starts[i + 1]], out[i])
     return out
+
+
+# -- areas, lengths, orientations and circles as GEOS computes them ------------------------------
+# shapely calls on thousands of small polygons cost more in building the geometries than
+# in the arithmetic; these kernels do the arithmetic of GEOS itself on ragged rings (closed,
+# ``coords[starts[i]:starts[i + 1]]``), in its order, so the results are the same bits.
+
+
+@nb.njit(**_OPTS)
+def _ring_area_signed(ring):
+    """GEOS's Area::ofRingSigned of a closed ring (shoelace from the first vertex's x)."""
+    n = ring.shape[0]
+    if n < 3:
+        return 0.0
+    x0 = ring[0, 0]
+    s = 0.0
+    for i in range(1, n - 1):
+        s += (ring[i, 0] - x0) * (ring[i - 1, 1] - ring[i + 1, 1])
+    return s / 2.0
+
+
+@nb.njit(**_OPTS)
+def _ring_length(ring):
+    """GEOS's Length::ofLine: the sum of the segment lengths, in order."""
+    total = 0.0
+    for i in range(1, ring.shape[0]):
+        dx = ring[i, 0] - ring[i - 1, 0]
+        dy = ring[i, 1] - ring[i - 1, 1]
+        total += np.sqrt(dx * dx + dy * dy)
+    return total
+
+
+@nb.njit(**_OPTS)
+def hull_measures(coords, starts):
+    """Area, perimeter and minimum bounding radius of each closed convex ring.
+
+    :func:`shapely.area`, :func:`shapely.length` and
+    :func:`shapely.minimum_bounding_radius` of the rings' polygons.
+    """
+    n = starts.shape[0] - 1
+    area = np.empty(n)
+    length = np.empty(n)
+    radius = np.empty(n)
+    for i in range(n):
+        ring = coords[starts[i] : starts[i + 1]]
+        area[i] = abs(_ring_area_signed(ring))
+        length[i] = _ring_length(ring)
+        radius[i] = bounding_radius(ring[:-1, 0], ring[:-1, 1])
+    return area, length, radius
+
+
+@nb.njit(**_OPTS)
+def _same(ring, i, j):
+    return ring[i, 0] == ring[j, 0] and ring[i, 1] == ring[j, 1]
+
+
+@nb.njit(**_OPTS)
+def _is_ccw(ring):
+    """GEOS's Orientation::isCCW of a closed ring of at least 4 points."""
+    n_pts = ring.shape[0] - 1
+    i_up_hi = 0
+    i_up_lo = -1
+    hi_y = ring[0, 1]
+    prev_y = hi_y
+    for i in range(1, n_pts + 1):
+        py = ring[i, 1]
+        if py > prev_y and py >= hi_y:
+            i_up_hi = i
+            i_up_lo = i - 1
+            hi_y = py
+        prev_y = py
+    if i_up_hi == 0:
+        return False
+    i_down_lo = i_up_hi
+    while True:
+        i_down_lo = (i_down_lo + 1) % n_pts
+        if i_down_lo == i_up_hi or ring[i_down_lo, 1] != hi_y:
+            break
+    i_down_hi = i_down_lo - 1 if i_down_lo > 0 else n_pts - 1
+    if _same(ring, i_up_hi, i_down_hi):
+        if (
+            _same(ring, i_up_lo, i_up_hi)
+            or _same(ring, i_down_lo, i_up_hi)
+            or _same(ring, i_up_lo, i_down_lo)
+        ):
+            return False
+        o = _orientation(
+            ring[i_up_lo, 0], ring[i_up_lo, 1], ring[i_up_hi, 0], ring[i_up_hi, 1],
+            ring[i_down_lo, 0], ring[i_down_lo, 1],
+        )  # fmt: skip
+        return o == 1
+    return ring[i_down_hi, 0] - ring[i_up_hi, 0] < 0
+
+
+@nb.njit(**_OPTS)
+def outline_measures(coords, starts, polygon):
+    """Area, bounds and counter-clockwise rings of outlines (``polygon``: a polygon's ring).
+
+    :func:`shapely.area` and :func:`shapely.bounds` of each outline, and the
+    coordinates of :func:`shapely.orient_polygons` (a clockwise ring
+    reversed); rings of points and lines are copied as they are, area 0.
+    """
+    n = starts.shape[0] - 1
+    area = np.zeros(n)
+    bounds = np.empty((n, 4))
+    out = np.empty_like(coords)
+    for i in range(n):
+        a, b = starts[i], starts[i + 1]
+        ring = coords[a:b]
+        x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
+        for k in range(b - a):
+            x0 = min(x0, ring[k, 0])
+            y0 = min(y0, ring[k, 1])
+            x1 = max(x1, ring[k, 0])
+            y1 = max(y1, ring[k, 1])
+        bounds[i, 0], bounds[i, 1], bounds[i, 2], bounds[i, 3] = x0, y0, x1, y1
+        if polygon[i]:
+            area[i] = abs(_ring_area_signed(ring))
+            if not _is_ccw(ring):
+                for k in range(b - a):
+                    out[a + k] = ring[b - a - 1 - k]
+                continue
+        out[a:b] = ring
+    return area, bounds, out
+
+
+_QUADRANT_SEGMENTS = 8  # GEOS's default for buffers
+
+
+@nb.njit(**_OPTS)
+def circle_outlines(coords, starts):
+    """:func:`shapely.minimum_bounding_circle` of closed convex rings, as GEOS builds them.
+
+    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
+    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
+    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
+    closed. Returns the rings (ragged, with their starts), whether each is a
+    polygon (a zero radius gives the centre point) and the centroids of the
+    polygons as GEOS computes them (triangles fanned from the first vertex).
+    """
+    n = starts.shape[0] - 1
+    segs = int(abs(0.0 - 2.0 * np.pi) / (np.pi / 2.0 / _QUADRANT_SEGMENTS) + 0.5)
+    inc = abs(0.0 - 2.0 * np.pi) / segs
+    out = np.empty((n * (segs + 2), 2))
+    out_starts = np.zeros(n + 1, dtype=np.int64)
+    polygon = np.zeros(n, dtype=np.bool_)
+    centroid = np.zeros((n, 2))
+    k = 0
+    for i in range(n):
+        ring = coords[starts[i] : starts[i + 1] - 1]
+        cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
+        a = k
+        out[k, 0], out[k, 1] = cx + r, cy
+        k += 1
+        if r != 0.0:
+            polygon[i] = True
+            near = r * 1e-6
+            for j in range(segs):
+                angle = 0.0 + (-j) * inc
+                s = np.sin(angle)
+                c = np.cos(angle)
+                if abs(s) < 5e-16:
+                    s = 0.0
+                if abs(c) < 5e-16:
+                    c = 0.0
+                x, y = cx + r * c, cy + r * s
+                dx, dy = x - out[k - 1, 0], y - out[k - 1, 1]
+                if np.sqrt(dx * dx + dy * dy) < near:
+                    continue
+                out[k, 0], out[k, 1] = x, y
+                k += 1
+            if out[k - 1, 0] != out[a, 0] or out[k - 1, 1] != out[a, 1]:
+                out[k, 0], out[k, 1] = out[a, 0], out[a, 1]
+                k += 1
+            centroid[i] = _centroid(out[a:k])
+        out_starts[i + 1] = k
+    return out[:k], out_starts, polygon, centroid
+
+
+@nb.njit(**_OPTS)
+def _centroid(ring):
+    """GEOS's Centroid of a polygon's shell (closed ring), area-weighted from its first vertex."""
+    sign = -1.0 if _is_ccw(ring) else 1.0
+    bx, by = ring[0, 0], ring[0, 1]
+    gx = 0.0
+    gy = 0.0
+    total = 0.0
+    for i in range(ring.shape[0] - 1):
+        p1x, p1y = ring[i, 0], ring[i, 1]
+        p2x, p2y = ring[i + 1, 0], ring[i + 1, 1]
+        tx = bx + p1x + p2x
+        ty = by + p1y + p2y
+        a2 = (p1x - bx) * (p2y - by) - (p2x - bx) * (p1y - by)
+        gx += sign * a2 * tx
+        gy += sign * a2 * ty
+        total += sign * a2
+    return np.array([gx / 3 / total, gy / 3 / total])
