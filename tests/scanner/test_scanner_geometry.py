@@ -1,5 +1,7 @@
 """The compiled per-object geometry gives what shapely and scipy give."""
 
+import itertools
+
 import numpy as np
 import pytest
 import shapely
@@ -194,12 +196,12 @@ def test_outline_area_bounds_and_orientation_are_shapelys(outline):
         xy, starts = circle_outlines(xy, starts)[:2]
     elif outline == "tilted":  # clockwise and counter-clockwise rings of any direction
         rng = np.random.default_rng(4)
-        rings = [xy[a:b] for a, b in zip(starts[:-1], starts[1:], strict=True)]
+        rings = [xy[a:b] for a, b in itertools.pairwise(starts)]
         rings = [r[::-1] if rng.random() < 0.5 else r for r in rings]
         t = rng.uniform(0, 2 * np.pi)
         rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
         xy = np.concatenate(rings) @ rot
-    polys = [shapely.polygons(xy[a:b]) for a, b in zip(starts[:-1], starts[1:], strict=True)]
+    polys = [shapely.polygons(xy[a:b]) for a, b in itertools.pairwise(starts)]
     area, bounds, oriented = outline_measures(xy, starts, np.ones(len(polys), dtype=bool))
     assert np.array_equal(area, shapely.area(polys))
     assert np.array_equal(bounds, shapely.bounds(polys))
