@@ -1033,6 +1033,7 @@ def min_area_rectangles(coords, ring_starts):
 
 
 # -- areas, lengths, orientations and circles as GEOS computes them ------------------------------
+_QUADRANT_SEGMENTS = 8  # GEOS's default for buffers
 # shapely calls on thousands of small polygons cost more in building the geometries than
 # in the arithmetic; these kernels do the arithmetic of GEOS itself on ragged rings (closed,
 # ``coords[starts[i]:starts[i + 1]]``), in its order, so the results are the same bits.
@@ -1156,57 +1157,124 @@ def outline_measures(coords, starts, polygon):
     return area, bounds, out
 
 
-_QUADRANT_SEGMENTS = 8  # GEOS's default for buffers
+@nb.njit(**_OPTS)
+def _circle_ring(ring, out, k):
+    """GEOS's minimum bounding circle of a convex ring (not closed), written at ``out[k:]``.
+
+    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
+    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
+    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
+    closed; a zero radius gives the centre point. Returns the end of the ring
+    in ``out`` and whether it is a polygon.
+    """
+    segs = int(abs(0.0 - 2.0 * np.pi) / (np.pi / 2.0 / _QUADRANT_SEGMENTS) + 0.5)
+    inc = abs(0.0 - 2.0 * np.pi) / segs
+    cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
+    a = k
+    if r == 0.0:
+        out[k, 0], out[k, 1] = cx, cy
+        return k + 1, False
+    out[k, 0], out[k, 1] = cx + r, cy
+    k += 1
+    near = r * 1e-6
+    for j in range(segs):
+        angle = 0.0 + (-j) * inc
+        s = np.sin(angle)
+        c = np.cos(angle)
+        if abs(s) < 5e-16:
+            s = 0.0
+        if abs(c) < 5e-16:
+            c = 0.0
+        x, y = cx + r * c, cy + r * s
+        dx, dy = x - out[k - 1, 0], y - out[k - 1, 1]
+        if np.sqrt(dx * dx + dy * dy) < near:
+            continue
+        out[k, 0], out[k, 1] = x, y
+        k += 1
+    if out[k - 1, 0] != out[a, 0] or out[k - 1, 1] != out[a, 1]:
+        out[k, 0], out[k, 1] = out[a, 0], out[a, 1]
+        k += 1
+    return k, True
 
 
 @nb.njit(**_OPTS)
 def circle_outlines(coords, starts):
     """:func:`shapely.minimum_bounding_circle` of closed convex rings, as GEOS builds them.
 
-    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
-    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
-    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
-    closed. Returns the rings (ragged, with their starts), whether each is a
-    polygon (a zero radius gives the centre point) and the centroids of the
-    polygons as GEOS computes them (triangles fanned from the first vertex).
+    See :func:`_circle_ring`. Returns the rings (ragged, with their starts),
+    whether each is a polygon and the centroids of the polygons as GEOS
+    computes them (triangles fanned from the first vertex).
     """
     n = starts.shape[0] - 1
-    segs = int(abs(0.0 - 2.0 * np.pi) / (np.pi / 2.0 / _QUADRANT_SEGMENTS) + 0.5)
-    inc = abs(0.0 - 2.0 * np.pi) / segs
-    out = np.empty((n * (segs + 2), 2))
+    out = np.empty((n * (4 * _QUADRANT_SEGMENTS + 2), 2))
     out_starts = np.zeros(n + 1, dtype=np.int64)
     polygon = np.zeros(n, dtype=np.bool_)
     centroid = np.zeros((n, 2))
     k = 0
     for i in range(n):
-        ring = coords[starts[i] : starts[i + 1] - 1]
-        cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
         a = k
-        out[k, 0], out[k, 1] = cx + r, cy
-        k += 1
-        if r != 0.0:
-            polygon[i] = True
-            near = r * 1e-6
-            for j in range(segs):
-                angle = 0.0 + (-j) * inc
-                s = np.sin(angle)
-                c = np.cos(angle)
-                if abs(s) < 5e-16:
-                    s = 0.0
-                if abs(c) < 5e-16:
-                    c = 0.0
-                x, y = cx + r * c, cy + r * s
-                dx, dy = x - out[k - 1, 0], y - out[k - 1, 1]
-                if np.sqrt(dx * dx + dy * dy) < near:
-                    continue
-                out[k, 0], out[k, 1] = x, y
-                k += 1
-            if out[k - 1, 0] != out[a, 0] or out[k - 1, 1] != out[a, 1]:
-                out[k, 0], out[k, 1] = out[a, 0], out[a, 1]
-                k += 1
+        k, polygon[i] = _circle_ring(coords[starts[i] : starts[i + 1] - 1], out, k)
+        if polygon[i]:
             centroid[i] = _centroid(out[a:k])
         out_starts[i + 1] = k
     return out[:k], out_starts, polygon, centroid
+
+
+HULL, RECTANGLE, CIRCLE, TRIANGLE = range(4)  # expected outlines (:func:`expected_outlines`)
+
+
+@nb.njit(**_OPTS)
+def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts):
+    """Expected outlines of convex rings (closed, one after the other), as shapely gives them.
+
+    ``shape[i]`` says which outline ring ``i`` (a polygon's) gets: ``HULL``
+    the ring itself, ``RECTANGLE`` its minimum rotated rectangle
+    (:func:`min_area_rectangle`), ``CIRCLE`` its minimum bounding circle
+    (:func:`_circle_ring`), ``TRIANGLE`` the next ring of ``(tri_xy,
+    tri_starts)``. Returns the outlines' rings (closed, one after the other;
+    a point or a line as they are), their starts, whether each is a polygon
+    and the centroids of the circles.
+    """
+    n = ring_starts.shape[0] - 1
+    cap = 0
+    t = 0
+    for i in range(n):
+        m = ring_starts[i + 1] - ring_starts[i]
+        if shape[i] == RECTANGLE:
+            cap += 5
+        elif shape[i] == CIRCLE:
+            cap += 4 * _QUADRANT_SEGMENTS + 2
+        elif shape[i] == TRIANGLE:
+            cap += tri_starts[t + 1] - tri_starts[t]
+            t += 1
+        else:
+            cap += m
+    out = np.empty((cap, 2))
+    starts = np.zeros(n + 1, dtype=np.int64)
+    polygon = np.zeros(n, dtype=np.bool_)
+    centroid = np.zeros((n, 2))
+    k = 0
+    t = 0
+    for i in range(n):
+        ring = rings[ring_starts[i] : ring_starts[i + 1]]
+        if shape[i] == RECTANGLE:
+            min_area_rectangle(ring, out[k : k + 5])
+            k += 5
+            polygon[i] = True
+        elif shape[i] == CIRCLE:
+            a = k
+            k, polygon[i] = _circle_ring(ring[:-1], out, k)
+            if polygon[i]:
+                centroid[i] = _centroid(out[a:k])
+        else:
+            if shape[i] == TRIANGLE:
+                ring = tri_xy[tri_starts[t] : tri_starts[t + 1]]
+                t += 1
+            out[k : k + ring.shape[0]] = ring
+            k += ring.shape[0]
+            polygon[i] = ring.shape[0] >= 4
+        starts[i + 1] = k
+    return out[:k], starts, polygon, centroid
 
 
 @nb.njit(**_OPTS)
@@ -1227,3 +1295,46 @@ def _centroid(ring):
         gy += sign * a2 * ty
         total += sign * a2
     return np.array([gx / 3 / total, gy / 3 / total])
+
+
+@nb.njit(**_OPTS)
+def defect_setup(
+    xy, starts, polygon, circle, cornered, heights, widths, obj_area, width, length, min_area,
+    min_area_fraction, min_depth,
+):  # fmt: skip
+    """What :func:`defect_groups` needs of each object, from its expected outline.
+
+    The outline (closed rings ``xy``, one after the other) is compared with
+    the object when it is a polygon of area at least 4: ``kind`` 1 (2 for a
+    ``circle``); its canvas covers mask and outline with 2 pixels to spare
+    (top-left pixel ``lo``, size ``canvas``); its ring is made
+    counter-clockwise; the vertices of ``cornered`` outlines mark broken
+    corners (``vert_lo``, ``vert_hi``); ``limits`` are the thresholds of
+    :class:`~tentaclass.scanner.DefectSettings` for the object's area, width
+    and length, the corner radius and a fifth of the outline's area.
+    """
+    area, bounds, rings = outline_measures(xy, starts, polygon)
+    n = starts.shape[0] - 1
+    kind = np.zeros(n, dtype=np.int64)
+    lo = np.zeros((n, 2), dtype=np.int64)
+    canvas = np.zeros((n, 2), dtype=np.int64)
+    vert_lo = starts[:-1].copy()
+    vert_hi = starts[:-1].copy()
+    limits = np.empty((n, 4))
+    for i in range(n):
+        if polygon[i] and area[i] >= 4:
+            kind[i] = 2 if circle[i] else 1
+            x0, y0, x1, y1 = bounds[i, 0], bounds[i, 1], bounds[i, 2], bounds[i, 3]
+            lo[i, 0] = int(np.floor(min(y0, 0.0) - 2))
+            lo[i, 1] = int(np.floor(min(x0, 0.0) - 2))
+            canvas[i, 0] = int(np.ceil(max(y1, float(heights[i])) + 2)) - lo[i, 0]
+            canvas[i, 1] = int(np.ceil(max(x1, float(widths[i])) + 2)) - lo[i, 1]
+            if cornered[i]:
+                vert_hi[i] = starts[i + 1] - 1
+        pixels = float(obj_area[i])
+        small = min(min_area, max(1.0, 0.1 * pixels))
+        limits[i, 0] = max(small, min_area_fraction * pixels)
+        limits[i, 1] = min(min_depth, max(1.0, 0.2 * width[i]))
+        limits[i, 2] = min(3.0, max(1.0, 0.1 * length[i]))
+        limits[i, 3] = 0.2 * area[i]
+    return kind, lo, canvas, rings, vert_lo, vert_hi, limits

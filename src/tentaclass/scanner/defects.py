@@ -151,49 +151,32 @@ def _triangle_rings(rings: np.ndarray, ring_starts: np.ndarray) -> tuple[np.ndar
     return out, out_starts
 
 
+_SHAPES = {
+    "square": geo.RECTANGLE,
+    "rectangle": geo.RECTANGLE,
+    "circle": geo.CIRCLE,
+    "triangle": geo.TRIANGLE,
+}
+
+
 def _expected_rings(
     rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence | np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`expected_outline` of each centre hull ring (closed, one after the other).
 
     Returns the outlines' rings as shapely gives their coordinates (closed,
     one after the other; a point or a line for hulls of collinear centres),
-    their starts, whether each is a polygon, and the circles' centroids
-    (zero for the other outlines).
+    their starts, whether each is a polygon, the circles' centroids (zero for
+    the other outlines) and the shape each label asks for.
     """
-    n = ring_starts.size - 1
-    counts = np.diff(ring_starts)
-    polygon = counts >= 4
-    names = np.array([str(x) for x in labels], dtype=object)
-    rect = polygon & ((names == "square") | (names == "rectangle"))
-    circle = polygon & (names == "circle")
-    triangle = polygon & (names == "triangle")
-    centroid = np.zeros((n, 2))
-    parts = []
-    if rect.any():
-        corners = geo.min_area_rectangles(*take_rings(rings, ring_starts, rect))
-        k = corners.shape[0]
-        parts.append((rect, corners.reshape(5 * k, 2), np.arange(0, 5 * k + 1, 5)))
-    if circle.any():
-        xy, starts, polygon[circle], centroid[circle] = geo.circle_outlines(
-            *take_rings(rings, ring_starts, circle)
-        )
-        parts.append((circle, xy, starts))
+    code = np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
+    shape = np.where(np.diff(ring_starts) >= 4, code, geo.HULL)
+    triangle = shape == geo.TRIANGLE
     if triangle.any():
-        xy, starts = _triangle_rings(*take_rings(rings, ring_starts, triangle))
-        polygon[triangle] = np.diff(starts) >= 4
-        parts.append((triangle, xy, starts))
-    same = ~(rect | circle | triangle)  # hulls (or points, lines) as they are
-    if same.any():
-        parts.append((same, *take_rings(rings, ring_starts, same)))
-    for select, _, starts in parts:
-        counts[select] = np.diff(starts)
-    out_starts = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(counts, out=out_starts[1:])
-    out = np.empty((int(out_starts[-1]), 2))
-    for select, xy, starts in parts:
-        put_rings(out, out_starts, np.flatnonzero(select), xy, starts)
-    return out, out_starts, polygon, centroid
+        tri_xy, tri_starts = _triangle_rings(*take_rings(rings, ring_starts, triangle))
+    else:
+        tri_xy, tri_starts = np.zeros((0, 2)), np.zeros(1, dtype=np.int64)
+    return (*geo.expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts), code)
 
 
 def _centre_rings(cores: MaskBatch) -> tuple[np.ndarray, np.ndarray]:
@@ -231,7 +214,7 @@ def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:
     >>> expected_outline(g, "rectangle").bounds
     (0.0, 0.0, 3.0, 2.0)
     """
-    xy, starts, polygon, _ = _expected_rings(*_centre_rings(flatten_masks([g.core])), [label])
+    xy, starts, polygon = _expected_rings(*_centre_rings(flatten_masks([g.core])), [label])[:3]
     ring = xy[starts[0] : starts[1]]
     if polygon[0]:
         return shapely.polygons(ring)
@@ -266,40 +249,18 @@ def defect_arrays(
     s = settings
     flat, starts, heights, widths, filled, core = batch
     assert filled is not None and core is not None  # set by measure_batch_arrays
-    xy, out_starts, polygon, circles = _expected_rings(
+    xy, out_starts, polygon, circles, code = _expected_rings(
         *_centre_rings(batch._replace(mask=core)), labels
     )
-    area, bounds, rings = geo.outline_measures(xy, out_starts, polygon)
-    ok = polygon & (area >= 4)
-    kind = ok.astype(np.int64)
-    names = np.array([str(x) for x in labels], dtype=object)
-    kind[ok & (names == "circle")] = 2
-    # canvas covering both the mask and the expected outline
-    x0, y0, x1, y1 = bounds.T
-    n = kind.shape[0]
-    lo = np.zeros((n, 2), dtype=np.int64)
-    hi = np.zeros((n, 2), dtype=np.int64)
-    lo[ok, 0] = np.floor(np.minimum(y0[ok], 0) - 2)
-    lo[ok, 1] = np.floor(np.minimum(x0[ok], 0) - 2)
-    hi[ok, 0] = np.ceil(np.maximum(y1[ok], heights[ok]) + 2)
-    hi[ok, 1] = np.ceil(np.maximum(x1[ok], widths[ok]) + 2)
-    # the vertices of expected outlines with corners (broken corners lie there)
-    cornered = ok & ((names == "square") | (names == "rectangle") | (names == "triangle"))
-    vert_lo = out_starts[:-1]
-    vert_hi = np.where(cornered, out_starts[1:] - 1, vert_lo)
-    obj_area = np.asarray(object_area, dtype=float)
-    small = np.minimum(s.min_area, np.maximum(1.0, 0.1 * obj_area))
-    limits = np.stack(
-        [
-            np.maximum(small, s.min_area_fraction * obj_area),  # s.area_threshold
-            np.minimum(s.min_depth, np.maximum(1.0, 0.2 * np.asarray(width, dtype=float))),
-            np.minimum(3.0, np.maximum(1.0, 0.1 * np.asarray(length, dtype=float))),
-            0.2 * area,
-        ],
-        axis=1,
-    )
+    cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
+    kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
+        xy, out_starts, polygon, code == geo.CIRCLE, cornered,
+        heights, widths, np.asarray(object_area), np.asarray(width, dtype=float),
+        np.asarray(length, dtype=float), float(s.min_area), float(s.min_area_fraction),
+        float(s.min_depth),
+    )  # fmt: skip
     return geo.defect_groups(
-        flat, filled, starts, heights, widths, kind, lo, hi - lo, rings, out_starts, xy,
+        flat, filled, starts, heights, widths, kind, lo, canvas, rings, out_starts, xy,
         vert_lo, vert_hi, circles, limits, extents.astype(float), float(s.margin),
         int(s.min_hole_area), float(s.min_burr_area),
     )  # fmt: skip
