@@ -79,7 +79,7 @@ class LineScanner:
     latency : int, default=0
         Rows an object may wait after its last row before it is emitted: rows
         fed in small chunks are staged and run through the kernel
-        ``latency // 2`` at a time, and the objects completed meanwhile are
+        ``latency // 4`` at a time, and the objects completed meanwhile are
         measured and classified in one batch (much cheaper per row and per
         object when rows come one per call). 0: every row is processed when
         fed and an object is emitted in the call that receives the row after
@@ -162,7 +162,7 @@ class LineScanner:
         self.latency = check_positive_int(latency, "latency", minimum=0)
         # with a latency, rows fed one by one are staged and run through the
         # kernel together; objects then wait at most the rest of the latency
-        self._stage_rows = max(1, self.latency // 2)
+        self._stage_rows = max(1, self.latency // 4)
         self._hold = self.latency - self._stage_rows if self.latency else 0
         self._stage: np.ndarray | None = None
         self._n_stage = 0
@@ -287,20 +287,18 @@ class LineScanner:
         objects : list of ScannedObject
             Objects whose last row has passed, in id order.
         """
-        fast = self._fast_dtype
         if (
-            fast is not None
-            and type(rows) is np.ndarray
-            and rows.dtype == fast
+            type(rows) is np.ndarray
+            and rows.dtype is self._fast_dtype
             and rows.shape == self._row_shape
             and not self._partial
-            and self._stage is not None
         ):
             # one row of a type that needs no checks, to the stage (a camera's case)
-            self._stage[self._n_stage] = rows
-            self._n_stage += 1
+            k = self._n_stage
+            self._stage[k] = rows  # type: ignore[index]  # (staged rows have a stage)
+            self._n_stage = k = k + 1
             self.rows_seen += 1
-            return self._drain() if self._n_stage == self._stage_rows else []
+            return self._drain() if k == self._stage_rows else []
         if self._closed:
             raise InputError("the scanner is closed: create a new one for a new stream")
         if isinstance(rows, bytes | bytearray | memoryview):
