@@ -147,12 +147,8 @@ def fill_holes(mask):
 
 
 @nb.njit(**_OPTS)
-def mask_hull(mask, corners):
-    """:func:`hull_ring` of the pixel squares' corners (or centres) of a mask.
-
-    Only the first and last pixel of each row can be hull vertices: at most
-    ``4 * n_rows`` points.
-    """
+def _mask_points(mask, corners):
+    """The points :func:`mask_hull` takes the hull of: each row's first and last pixel."""
     h, w = mask.shape
     x = np.empty(4 * h)
     y = np.empty(4 * h)
@@ -176,7 +172,85 @@ def mask_hull(mask, corners):
             x[n], y[n] = first, r
             x[n + 1], y[n + 1] = last, r
             n += 2
-    return hull_ring(x[:n], y[:n])
+    return x[:n], y[:n]
+
+
+@nb.njit(**_OPTS)
+def mask_hull(mask, corners):
+    """:func:`hull_ring` of the pixel squares' corners (or centres) of a mask.
+
+    Only the first and last pixel of each row can be hull vertices, and of
+    the points on one line ``y = const`` only the leftmost and the rightmost:
+    these come sorted by ``y`` then ``x`` from a pass over the rows, so the
+    monotone chain runs along ``y`` without sorting. The hull's vertices are
+    the same (the extreme points, exact in half pixels), given in GEOS's
+    order; collinear points (a line or a point: no polygon) go to
+    :func:`hull_ring`.
+    """
+    h, w = mask.shape
+    first = np.full(h, -1, dtype=np.int64)
+    last = np.full(h, -1, dtype=np.int64)
+    for r in range(h):
+        for c in range(w):
+            if mask[r, c]:
+                if first[r] < 0:
+                    first[r] = c
+                last[r] = c
+    # the levels y = const, bottom up, each with its leftmost and rightmost point
+    px = np.empty(2 * h + 2)
+    py = np.empty(2 * h + 2)
+    n = 0
+    for k in range(h + 1 if corners else h):
+        lo = np.inf
+        hi = -np.inf
+        if corners:
+            for r in (k - 1, k):  # the row below ends and the row above starts at y = k - 0.5
+                if 0 <= r < h and first[r] >= 0:
+                    lo = min(lo, first[r] - 0.5)
+                    hi = max(hi, last[r] + 0.5)
+            level = k - 0.5
+        else:
+            if first[k] >= 0:
+                lo, hi = float(first[k]), float(last[k])
+            level = float(k)
+        if lo > hi:
+            continue
+        px[n], py[n] = lo, level
+        n += 1
+        if hi != lo:
+            px[n], py[n] = hi, level
+            n += 1
+    # Andrew's monotone chain with y as the sort axis (coordinates swapped)
+    hx = np.empty(2 * n + 1)
+    hy = np.empty(2 * n + 1)
+    k = 0
+    for i in range(n):
+        while k >= 2 and _cross(hy[k - 2], hx[k - 2], hy[k - 1], hx[k - 1], py[i], px[i]) <= 0:
+            k -= 1
+        hx[k] = px[i]
+        hy[k] = py[i]
+        k += 1
+    lo_k = k + 1
+    for i in range(n - 2, -1, -1):
+        while k >= lo_k and _cross(hy[k - 2], hx[k - 2], hy[k - 1], hx[k - 1], py[i], px[i]) <= 0:
+            k -= 1
+        hx[k] = px[i]
+        hy[k] = py[i]
+        k += 1
+    k -= 1  # the last point repeats the first; counter-clockwise with x and y swapped
+    if k < 3:
+        x, y = _mask_points(mask, corners)
+        return hull_ring(x, y)
+    start = 0
+    for i in range(1, k):
+        if hy[i] < hy[start] or (hy[i] == hy[start] and hx[i] < hx[start]):
+            start = i
+    out = np.empty((k + 1, 2))
+    for j in range(k + 1):  # clockwise with x and y as they are: walk forwards
+        i = (start + j) % k
+        out[j, 0] = hx[i]
+        out[j, 1] = hy[i]
+    return out
 
 
 @nb.njit(**_OPTS)
@@ -476,31 +550,45 @@ def defect_groups(
         f = _mask_of(filled, starts, heights, widths, i)
         h, w = m.shape
         sd = np.empty((0, 0))
-        cm = np.zeros((0, 0), dtype=np.bool_)
-        cf = np.zeros((0, 0), dtype=np.bool_)
+        # holes (in the mask), missing and extra pixels (on the canvas), and whether any
+        holes = np.empty((h, w), dtype=np.bool_)
+        found = np.zeros(3, dtype=np.bool_)
+        for r in range(h):
+            for c in range(w):
+                holes[r, c] = f[r, c] and not m[r, c]
+                found[0] |= holes[r, c]
+        missing = np.empty((0, 0), dtype=np.bool_)
+        extra = np.empty((0, 0), dtype=np.bool_)
         if kind[i] != 0:
             ch, cw = canvas[i, 0], canvas[i, 1]
             a, b = ring_starts[i], ring_starts[i + 1]
             sd = _signed_distance(kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw)
-            cm = np.zeros((ch, cw), dtype=np.bool_)
-            cf = np.zeros((ch, cw), dtype=np.bool_)
-            cm[-lo[i, 0] : -lo[i, 0] + h, -lo[i, 1] : -lo[i, 1] + w] = m
-            cf[-lo[i, 0] : -lo[i, 0] + h, -lo[i, 1] : -lo[i, 1] + w] = f
+            missing = np.empty((ch, cw), dtype=np.bool_)
+            extra = np.empty((ch, cw), dtype=np.bool_)
+            for y in range(ch):
+                r = y + lo[i, 0]
+                for x in range(cw):
+                    c = x + lo[i, 1]
+                    inside = 0 <= r < h and 0 <= c < w
+                    missing[y, x] = sd[y, x] >= margin and not (inside and f[r, c])
+                    extra[y, x] = inside and m[r, c] and sd[y, x] < -(1.0 + margin)
+                    found[1] |= missing[y, x]
+                    found[2] |= extra[y, x]
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
             if group == 0:
-                region = f & ~m
+                region = holes
                 lo0, lo1 = 0, 0
             elif kind[i] == 0:
                 break
             elif group == 1:
-                region = (sd >= margin) & ~cf
+                region = missing
                 smallest = limits[i, 0]
             else:
-                region = cm & (sd < -(1.0 + margin))
+                region = extra
                 smallest = min_burr_area
-            if not region.any():
+            if not found[group]:
                 continue
             rr, cc, gs = label_runs(region, group != 0)
             for q in range(gs.shape[0] - 1):
