@@ -33,6 +33,33 @@ def _cross(ox, oy, ax, ay, bx, by):
 
 
 @nb.njit(**_OPTS)
+def _monotone_chain(a, b):
+    """Andrew's monotone chain over points sorted by ``a``, then ``b``, without duplicates.
+
+    Returns the hull's vertices ``(ha[:k], hb[:k])``, counter-clockwise in the
+    ``(a, b)`` frame, collinear points dropped; ``k < 3`` if all are collinear.
+    """
+    m = a.shape[0]
+    ha = np.empty(2 * m + 1)
+    hb = np.empty(2 * m + 1)
+    k = 0
+    for i in range(m):  # lower hull
+        while k >= 2 and _cross(ha[k - 2], hb[k - 2], ha[k - 1], hb[k - 1], a[i], b[i]) <= 0:
+            k -= 1
+        ha[k] = a[i]
+        hb[k] = b[i]
+        k += 1
+    lo = k + 1
+    for i in range(m - 2, -1, -1):  # upper hull
+        while k >= lo and _cross(ha[k - 2], hb[k - 2], ha[k - 1], hb[k - 1], a[i], b[i]) <= 0:
+            k -= 1
+        ha[k] = a[i]
+        hb[k] = b[i]
+        k += 1
+    return ha, hb, k - 1  # (the last point repeats the first)
+
+
+@nb.njit(**_OPTS)
 def hull_ring(x, y):
     """Closed hull ring ``(m + 1, 2)`` of the points ``(x, y)`` in GEOS's order.
 
@@ -59,23 +86,7 @@ def hull_ring(x, y):
             out[i, 0] = ux[i]
             out[i, 1] = uy[i]
         return out
-    hx = np.empty(2 * m)
-    hy = np.empty(2 * m)
-    k = 0
-    for i in range(m):  # lower hull
-        while k >= 2 and _cross(hx[k - 2], hy[k - 2], hx[k - 1], hy[k - 1], ux[i], uy[i]) <= 0:
-            k -= 1
-        hx[k] = ux[i]
-        hy[k] = uy[i]
-        k += 1
-    lo = k + 1
-    for i in range(m - 2, -1, -1):  # upper hull
-        while k >= lo and _cross(hx[k - 2], hy[k - 2], hx[k - 1], hy[k - 1], ux[i], uy[i]) <= 0:
-            k -= 1
-        hx[k] = ux[i]
-        hy[k] = uy[i]
-        k += 1
-    k -= 1  # the last point repeats the first; hx[:k] is counter-clockwise
+    hx, hy, k = _monotone_chain(ux[:m], uy[:m])  # hx[:k] is counter-clockwise
     if k < 3:
         out = np.empty((2, 2))
         out[0, 0], out[0, 1] = ux[0], uy[0]
@@ -220,24 +231,8 @@ def mask_hull(mask, corners):
         if hi != lo:
             px[n], py[n] = hi, level
             n += 1
-    # Andrew's monotone chain with y as the sort axis (coordinates swapped)
-    hx = np.empty(2 * n + 1)
-    hy = np.empty(2 * n + 1)
-    k = 0
-    for i in range(n):
-        while k >= 2 and _cross(hy[k - 2], hx[k - 2], hy[k - 1], hx[k - 1], py[i], px[i]) <= 0:
-            k -= 1
-        hx[k] = px[i]
-        hy[k] = py[i]
-        k += 1
-    lo_k = k + 1
-    for i in range(n - 2, -1, -1):
-        while k >= lo_k and _cross(hy[k - 2], hx[k - 2], hy[k - 1], hx[k - 1], py[i], px[i]) <= 0:
-            k -= 1
-        hx[k] = px[i]
-        hy[k] = py[i]
-        k += 1
-    k -= 1  # the last point repeats the first; counter-clockwise with x and y swapped
+    # the monotone chain with y as the sort axis: counter-clockwise with x and y swapped
+    hy, hx, k = _monotone_chain(py[:n], px[:n])
     if k < 3:
         x, y = _mask_points(mask, corners)
         return hull_ring(x, y)
