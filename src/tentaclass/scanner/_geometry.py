@@ -130,19 +130,18 @@ def max_distance_outside(ring, px, py):
 
 
 @nb.njit(**_OPTS)
-def fill_holes(mask):
-    """``mask`` with every background region not 4-connected to the border filled."""
+def _fill_holes_into(mask, out, stack):
+    """:func:`fill_holes` written into ``out`` (same shape); ``stack``: room for every pixel."""
     h, w = mask.shape
-    outside = np.zeros((h, w), dtype=np.bool_)
-    stack = np.empty(h * w * 4 + 4, dtype=np.int64)
+    out[:] = True  # False: background reached from the border
     top = 0
     for k in range(2 * (h + w)):  # the border: left, right, top and bottom edges
         if k < 2 * h:
             r, c = k % h, 0 if k < h else w - 1
         else:
             r, c = 0 if k < 2 * h + w else h - 1, (k - 2 * h) % w
-        if not mask[r, c] and not outside[r, c]:
-            outside[r, c] = True
+        if not mask[r, c] and out[r, c]:
+            out[r, c] = False
             stack[top] = r * w + c
             top += 1
     while top > 0:
@@ -150,11 +149,18 @@ def fill_holes(mask):
         r, c = divmod(stack[top], w)
         for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
             rr, cc = r + dr, c + dc
-            if 0 <= rr < h and 0 <= cc < w and not mask[rr, cc] and not outside[rr, cc]:
-                outside[rr, cc] = True
+            if 0 <= rr < h and 0 <= cc < w and not mask[rr, cc] and out[rr, cc]:
+                out[rr, cc] = False
                 stack[top] = rr * w + cc
                 top += 1
-    return ~outside
+
+
+@nb.njit(**_OPTS)
+def fill_holes(mask):
+    """``mask`` with every background region not 4-connected to the border filled."""
+    out = np.empty(mask.shape, dtype=np.bool_)
+    _fill_holes_into(mask, out, np.empty(mask.size, dtype=np.int64))
+    return out
 
 
 @nb.njit(**_OPTS)
@@ -369,9 +375,13 @@ def measure_batch(flat, starts, heights, widths):
     filled = np.empty(flat.shape[0], dtype=np.bool_)
     area = np.zeros(n, dtype=np.int64)
     sums = np.zeros((n, 2))
+    biggest = 0
+    for i in range(n):
+        biggest = max(biggest, heights[i] * widths[i])
+    stack = np.empty(biggest, dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
-        filled[starts[i] : starts[i] + m.size] = fill_holes(m).ravel()
+        _fill_holes_into(m, _mask_of(filled, starts, heights, widths, i), stack)
         a = 0
         sr = 0
         sc = 0

@@ -267,12 +267,16 @@ def defect_arrays(
 
 
 def defect_lists(
-    ints: np.ndarray, floats: np.ndarray, n: int, offsets: Sequence[tuple[int, int]] | None = None
+    ints: np.ndarray,
+    floats: np.ndarray,
+    n: int,
+    tops: Sequence[int] | None = None,
+    lefts: Sequence[int] | None = None,
 ) -> list[list[Defect]]:
     """The defects of :func:`defect_arrays` as records, a list per object.
 
-    ``offsets``: ``(row, col)`` added to every defect's coordinates (as
-    :meth:`Defect.shifted` would), default none.
+    ``tops``, ``lefts``: rows and columns added to each object's defects'
+    coordinates (as :meth:`Defect.shifted` would), default none.
     """
     out: list[list[Defect]] = [[] for _ in range(n)]
     for (i, code, size, r0, c0, r1, c1), (cr, cc, depth) in zip(
@@ -280,7 +284,7 @@ def defect_lists(
     ):
         name, note = _KINDS[code]
         depth = 0.0 if code == geo.HOLE else round(depth, 3)
-        dr, dc = (0, 0) if offsets is None else offsets[i]
+        dr, dc = (0, 0) if tops is None or lefts is None else (tops[i], lefts[i])
         box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
         out[i].append(new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
     for i in np.unique(ints[:, 0]).tolist():
@@ -324,7 +328,9 @@ def find_defects_many(
         settings,
         ext.reshape(n, 4),
     )
-    return defect_lists(ints, floats, n, offsets)
+    if offsets is None:
+        return defect_lists(ints, floats, n)
+    return defect_lists(ints, floats, n, [o[0] for o in offsets], [o[1] for o in offsets])
 
 
 _CODES = {name: code for code, (name, _) in _KINDS.items()}

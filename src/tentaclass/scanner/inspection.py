@@ -175,27 +175,30 @@ def _check_options(
 
 def inspect_masks(
     masks: Sequence[np.ndarray] | None,
-    offsets: Sequence[tuple[int, int]],
+    offsets: Sequence[tuple[int, int]] | np.ndarray,
     model: ScannerModel,
     settings: DefectSettings,
     nominal_size: NominalSize = None,
     size_tolerance: float = 0.1,
-    extents: Sequence[tuple[float, float, float, float] | None] | None = None,
+    extents: Sequence[tuple[float, float, float, float] | None] | np.ndarray | None = None,
     single: bool = False,
     flat: MaskBatch | None = None,
 ) -> list[Inspection]:
     """Inspect validated, cropped object masks in one batch (one classifier call).
 
     Private kernel of :func:`inspect_many` and the line scanner; ``offsets``
-    are the ``(row, col)`` of each mask's top-left pixel, ``extents`` the
-    ``(row0, col0, row1, col1)`` of each grid (or the belt) in the same
-    coordinates as the offsets; ``single`` says each mask is known to be one
-    8-connected piece; ``flat``: the masks already in flat buffers (``masks``
-    are views of it, or None: its views).
+    are the ``(row, col)`` of each mask's top-left pixel (pairs or an
+    ``(n, 2)`` array), ``extents`` the ``(row0, col0, row1, col1)`` of each
+    grid (or the belt) in the same coordinates as the offsets (or an ``(n,
+    4)`` array); ``single`` says each mask is known to be one 8-connected
+    piece; ``flat``: the masks already in flat buffers (``masks`` are views of
+    it, or None: its views).
     """
     n = len(offsets)
     if not n:
         return []
+    off = np.asarray(offsets, dtype=np.int64).reshape(n, 2)
+    tops, lefts = off[:, 0].tolist(), off[:, 1].tolist()
     batch = flat if flat is not None else flatten_masks(masks or [])
     m = measure_batch_arrays(batch)
     proba = model.predict_features_proba(model._batch_features(m))
@@ -203,17 +206,19 @@ def inspect_masks(
     labels = [str(x) for x in model.classes_[best].tolist()]
     confidence = proba[np.arange(n), best].tolist()
     # the grid (or belt) in each mask's coordinates
-    ext = np.array(
-        [(-np.inf, -np.inf, np.inf, np.inf) if e is None else e for e in extents]
-        if extents is not None
-        else [(-np.inf, -np.inf, np.inf, np.inf)] * n,
-        dtype=float,
-    ).reshape(n, 4)
-    off = np.array(offsets, dtype=float).reshape(n, 2)
+    if isinstance(extents, np.ndarray):
+        ext = extents.astype(float).reshape(n, 4)
+    else:
+        ext = np.array(
+            [(-np.inf, -np.inf, np.inf, np.inf) if e is None else e for e in extents]
+            if extents is not None
+            else [(-np.inf, -np.inf, np.inf, np.inf)] * n,
+            dtype=float,
+        ).reshape(n, 4)
     ints, floats = defect_arrays(
         m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2)
     )
-    defects = defect_lists(ints, floats, n, offsets)
+    defects = defect_lists(ints, floats, n, tops, lefts)
     centroids = (m.sums / m.area[:, None]).tolist()
     if nominal_size is not None or not single:
         geoms = m.geometries()
@@ -222,14 +227,14 @@ def inspect_masks(
                 g.__dict__["mask"] = mask
         return [
             _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
-            for g, d, c, label, p, (top, left) in zip(
-                geoms, defects, centroids, labels, confidence, offsets, strict=True
+            for g, d, c, label, p, top, left in zip(
+                geoms, defects, centroids, labels, confidence, tops, lefts, strict=True
             )
         ]
     # the same records as _assemble gives, built in one pass
     out = []
-    for d, (cr, cc), label, p, (top, left), h, w, area, angle, long, short in zip(
-        defects, centroids, labels, confidence, offsets, batch.heights.tolist(),
+    for d, (cr, cc), label, p, top, left, h, w, area, angle, long, short in zip(
+        defects, centroids, labels, confidence, tops, lefts, batch.heights.tolist(),
         batch.widths.tolist(), m.area.tolist(), m.orientation, m.length, m.width, strict=True,
     ):  # fmt: skip
         bbox = (top, left, top + h, left + w)

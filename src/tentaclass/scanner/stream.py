@@ -539,13 +539,13 @@ class LineScanner:
         whole = out[:, 0] == 0
         inspections: list[Inspection] = []
         if whole.any():
-            batch = MaskBatch(*seg.paint_all(out[whole], runs))
-            offsets = list(zip(out[whole, 1].tolist(), out[whole, 3].tolist(), strict=True))
+            done = out[whole]
+            batch = MaskBatch(*seg.paint_all(done, runs))
             # The belt's side edges cut objects; along the belt, only the stream's start does.
-            belt = (0.0, 0.0, np.inf, float(self.width))
+            belt = np.array([0.0, 0.0, np.inf, float(self.width)])
             inspections = inspect_masks(
-                None, offsets, self.model, self.settings, self.nominal_size,
-                self.size_tolerance, [belt] * len(offsets), single=True, flat=batch,
+                None, done[:, [1, 3]], self.model, self.settings, self.nominal_size,
+                self.size_tolerance, np.tile(belt, (done.shape[0], 1)), single=True, flat=batch,
             )  # fmt: skip
         if not whole.all():
             cut = out[~whole]
@@ -564,8 +564,8 @@ class LineScanner:
                     )
                 ]
             )
-            done = iter(inspections)
-            inspections = [next(done) if w else next(tall) for w in whole.tolist()]
+            inspected = iter(inspections)
+            inspections = [next(inspected) if w else next(tall) for w in whole.tolist()]
         records = []
         i = self.n_emitted
         for insp, first, last in zip(
