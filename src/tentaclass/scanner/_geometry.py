@@ -555,13 +555,13 @@ def defect_groups(
         f = _mask_of(filled, starts, heights, widths, i)
         h, w = m.shape
         sd = np.empty((0, 0))
-        # holes (in the mask), missing and extra pixels (on the canvas), and whether any
+        # holes (in the mask), missing and extra pixels (on the canvas), and how many
         holes = np.empty((h, w), dtype=np.bool_)
-        found = np.zeros(3, dtype=np.bool_)
+        found = np.zeros(3, dtype=np.int64)
         for r in range(h):
             for c in range(w):
                 holes[r, c] = f[r, c] and not m[r, c]
-                found[0] |= holes[r, c]
+                found[0] += holes[r, c]
         missing = np.empty((0, 0), dtype=np.bool_)
         extra = np.empty((0, 0), dtype=np.bool_)
         if kind[i] != 0:
@@ -577,8 +577,8 @@ def defect_groups(
                     inside = 0 <= r < h and 0 <= c < w
                     missing[y, x] = sd[y, x] >= margin and not (inside and f[r, c])
                     extra[y, x] = inside and m[r, c] and sd[y, x] < -(1.0 + margin)
-                    found[1] |= missing[y, x]
-                    found[2] |= extra[y, x]
+                    found[1] += missing[y, x]
+                    found[2] += extra[y, x]
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
@@ -593,7 +593,7 @@ def defect_groups(
             else:
                 region = extra
                 smallest = min_burr_area
-            if not found[group]:
+            if found[group] == 0 or found[group] < smallest:  # no group can be large enough
                 continue
             rr, cc, gs = label_runs(region, group != 0)
             for q in range(gs.shape[0] - 1):
