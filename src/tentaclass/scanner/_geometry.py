@@ -1317,13 +1317,14 @@ HULL, RECTANGLE, CIRCLE, TRIANGLE = range(4)  # expected outlines (:func:`expect
 
 
 @nb.njit(**_OPTS)
-def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts):
+def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts, tri_found, tris):
     """Expected outlines of convex rings (closed, one after the other), as shapely gives them.
 
     ``shape[i]`` says which outline ring ``i`` (a polygon's) gets: ``HULL``
     the ring itself, ``RECTANGLE`` its minimum rotated rectangle
     (:func:`min_area_rectangle`), ``CIRCLE`` its minimum bounding circle
-    (:func:`_circle_ring`), ``TRIANGLE`` the next ring of ``(tri_xy,
+    (:func:`_circle_ring`), ``TRIANGLE`` the next triangle of ``tris``
+    (closed), or where ``tri_found`` is False the next ring of ``(tri_xy,
     tri_starts)``. Returns the outlines' rings (closed, one after the other;
     a point or a line as they are), their starts, whether each is a polygon
     and the centroids of the circles.
@@ -1338,7 +1339,7 @@ def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts):
         elif shape[i] == CIRCLE:
             cap += 4 * _QUADRANT_SEGMENTS + 2
         elif shape[i] == TRIANGLE:
-            cap += tri_starts[t + 1] - tri_starts[t]
+            cap += 4 if tri_found[t] else tri_starts[t + 1] - tri_starts[t]
             t += 1
         else:
             cap += m
@@ -1359,6 +1360,12 @@ def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts):
             k, polygon[i] = _circle_ring(ring[:-1], out, k)
             if polygon[i]:
                 centroid[i] = _centroid(out[a:k])
+        elif shape[i] == TRIANGLE and tri_found[t]:
+            for j in range(4):
+                out[k + j, 0], out[k + j, 1] = tris[t, j % 3, 0], tris[t, j % 3, 1]
+            k += 4
+            polygon[i] = True
+            t += 1
         else:
             if shape[i] == TRIANGLE:
                 ring = tri_xy[tri_starts[t] : tri_starts[t + 1]]

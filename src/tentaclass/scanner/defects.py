@@ -33,7 +33,6 @@ from .descriptors import (
     MaskBatch,
     flatten_masks,
     polygons_from_rings,
-    put_rings,
     take_rings,
 )
 from .records import Defect, new_defect
@@ -103,7 +102,9 @@ class DefectSettings:
         return min(self.min_depth, max(1.0, 0.2 * object_width))
 
 
-def _triangle_rings(rings: np.ndarray, ring_starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _triangles(
+    rings: np.ndarray, ring_starts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Smallest triangle with each side on a line through an edge of each hull.
 
     Every such triangle encloses the hull (each side is a supporting line), so
@@ -113,8 +114,9 @@ def _triangle_rings(rings: np.ndarray, ring_starts: np.ndarray) -> tuple[np.ndar
     search over edge triples is fast for hulls of tens of edges. The hulls
     (closed rings, one after the other) are simplified first (tolerance 0.25
     px, :func:`shapely.simplify`), and the sides lie on the 12 longest edges;
-    a hull with no qualifying triple stays (simplified). Returns the closed
-    rings of the outlines, one after the other, and their starts.
+    a hull with no qualifying triple stays (simplified). Returns the
+    simplified rings (closed, one after the other), their starts, whether a
+    triangle was found and the triangles ``(n, 3, 2)``.
     """
     n = ring_starts.size - 1
     simple = shapely.simplify(polygons_from_rings(rings, ring_starts), 0.25)
@@ -139,16 +141,7 @@ def _triangle_rings(rings: np.ndarray, ring_starts: np.ndarray) -> tuple[np.ndar
     found, tris = geo.triangle_search(
         normal, c, theta, ph, length, np.searchsorted(index, np.arange(n + 1))
     )
-    counts = np.where(found, 4, np.diff(starts))
-    out_starts = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(counts, out=out_starts[1:])
-    out = np.empty((int(out_starts[-1]), 2))
-    put_rings(out, out_starts, np.flatnonzero(~found), *take_rings(sxy, starts, ~found))
-    closed = np.concatenate([tris[found], tris[found][:, :1]], axis=1)
-    k = closed.shape[0]
-    put_rings(out, out_starts, np.flatnonzero(found), closed.reshape(4 * k, 2),
-              np.arange(0, 4 * k + 1, 4))  # fmt: skip
-    return out, out_starts
+    return sxy, starts, found, tris
 
 
 _SHAPES = {
@@ -173,10 +166,15 @@ def _expected_rings(
     shape = np.where(np.diff(ring_starts) >= 4, code, geo.HULL)
     triangle = shape == geo.TRIANGLE
     if triangle.any():
-        tri_xy, tri_starts = _triangle_rings(*take_rings(rings, ring_starts, triangle))
+        tri = _triangles(*take_rings(rings, ring_starts, triangle))
     else:
-        tri_xy, tri_starts = np.zeros((0, 2)), np.zeros(1, dtype=np.int64)
-    return (*geo.expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts), code)
+        tri = (
+            np.zeros((0, 2)),
+            np.zeros(1, dtype=np.int64),
+            np.zeros(0, bool),
+            np.zeros((0, 3, 2)),
+        )
+    return (*geo.expected_outlines(rings, ring_starts, shape, *tri), code)
 
 
 def _centre_rings(cores: MaskBatch) -> tuple[np.ndarray, np.ndarray]:
@@ -287,10 +285,10 @@ def defect_lists(
         dr, dc = (0, 0) if tops is None or lefts is None else (tops[i], lefts[i])
         box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
         out[i].append(new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
-    for i in np.unique(ints[:, 0]).tolist():
-        # holes, then missing, then extra material, each largest first
-        group = {geo.HOLE: 0, geo.BURR: 2}
-        out[i].sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
+    group = {geo.HOLE: 0, geo.BURR: 2}
+    for found in out:
+        if len(found) > 1:  # holes, then missing, then extra material, each largest first
+            found.sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
     return out
 
 
