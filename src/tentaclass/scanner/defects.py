@@ -264,19 +264,18 @@ def defect_arrays(
     )  # fmt: skip
 
 
-def defect_lists(
+def defect_records(
     ints: np.ndarray,
     floats: np.ndarray,
-    n: int,
     tops: Sequence[int] | None = None,
     lefts: Sequence[int] | None = None,
-) -> list[list[Defect]]:
-    """The defects of :func:`defect_arrays` as records, a list per object.
+) -> dict[int, list[Defect]]:
+    """The defects of :func:`defect_arrays` as records, by object (only objects with some).
 
     ``tops``, ``lefts``: rows and columns added to each object's defects'
     coordinates (as :meth:`Defect.shifted` would), default none.
     """
-    out: list[list[Defect]] = [[] for _ in range(n)]
+    out: dict[int, list[Defect]] = {}
     for (i, code, size, r0, c0, r1, c1), (cr, cc, depth) in zip(
         ints.tolist(), floats.tolist(), strict=True
     ):
@@ -284,9 +283,10 @@ def defect_lists(
         depth = 0.0 if code == geo.HOLE else round(depth, 3)
         dr, dc = (0, 0) if tops is None or lefts is None else (tops[i], lefts[i])
         box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
-        out[i].append(new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
+        d = new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size))
+        out.setdefault(i, []).append(d)
     group = {geo.HOLE: 0, geo.BURR: 2}
-    for found in out:
+    for found in out.values():
         if len(found) > 1:  # holes, then missing, then extra material, each largest first
             found.sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
     return out
@@ -327,8 +327,10 @@ def find_defects_many(
         ext.reshape(n, 4),
     )
     if offsets is None:
-        return defect_lists(ints, floats, n)
-    return defect_lists(ints, floats, n, [o[0] for o in offsets], [o[1] for o in offsets])
+        found = defect_records(ints, floats)
+    else:
+        found = defect_records(ints, floats, [o[0] for o in offsets], [o[1] for o in offsets])
+    return [found.get(i, []) for i in range(n)]
 
 
 _CODES = {name: code for code, (name, _) in _KINDS.items()}

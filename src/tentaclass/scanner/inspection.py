@@ -10,7 +10,7 @@ from scipy import ndimage
 
 from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
-from .defects import DefectSettings, defect_arrays, defect_lists
+from .defects import DefectSettings, defect_arrays, defect_records
 from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
 from .model import ScannerModel, crop, default_model
 from .records import Defect, Inspection, new_inspection
@@ -218,9 +218,10 @@ def inspect_masks(
     ints, floats = defect_arrays(
         m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2)
     )
-    defects = defect_lists(ints, floats, n, tops, lefts)
-    centroids = (m.sums / m.area[:, None]).tolist()
+    found = defect_records(ints, floats, tops, lefts)
     if nominal_size is not None or not single:
+        defects = [found.get(i, []) for i in range(n)]
+        centroids = (m.sums / m.area[:, None]).tolist()
         geoms = m.geometries()
         if masks is not None:
             for g, mask in zip(geoms, masks, strict=True):
@@ -233,14 +234,16 @@ def inspect_masks(
         ]
     # the same records as _assemble gives, built in one pass
     out = []
-    for d, (cr, cc), label, p, top, left, h, w, area, angle, long, short in zip(
-        defects, centroids, labels, confidence, tops, lefts, batch.heights.tolist(),
+    rows = (m.sums[:, 0] / m.area).tolist()
+    cols = (m.sums[:, 1] / m.area).tolist()
+    for i, (cr, cc, label, p, top, left, h, w, area, angle, long, short) in enumerate(zip(
+        rows, cols, labels, confidence, tops, lefts, batch.heights.tolist(),
         batch.widths.tolist(), m.area.tolist(), m.orientation, m.length, m.width, strict=True,
-    ):  # fmt: skip
+    )):  # fmt: skip
         bbox = (top, left, top + h, left + w)
         centroid = (round(cr + top, 6), round(cc + left, 6))
-        if d:
-            out.append(_record(label, p, bbox, area, centroid, angle, long, short, d))
+        if i in found:
+            out.append(_record(label, p, bbox, area, centroid, angle, long, short, found[i]))
         else:
             out.append(
                 new_inspection(
