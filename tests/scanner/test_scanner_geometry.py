@@ -1,5 +1,7 @@
 """The compiled per-object geometry gives what shapely and scipy give."""
 
+import itertools
+
 import numpy as np
 import pytest
 import shapely
@@ -148,3 +150,59 @@ def test_chord_walk_angles_are_the_numpy_pipelines_to_the_last_bit():
     ours = np.arctan2(cross, dot)
     for r, q in zip(rings, ours, strict=True):
         assert np.array_equal(q, points_to_angles(resample_closed(r[None], 64), closed=True)[0])
+
+
+def _ragged(rings, shift_seed=None):
+    rng = np.random.default_rng(shift_seed)
+    if shift_seed is not None:  # away from the origin, where rounding shows
+        rings = [r + rng.uniform(0, 3000, 2).round(0) + 0.25 * rng.integers(0, 4) for r in rings]
+    starts = np.r_[0, np.cumsum([len(r) for r in rings])]
+    return np.concatenate(rings), starts, [shapely.polygons(r) for r in rings]
+
+
+@pytest.mark.parametrize("corners", [True, False])
+def test_hull_area_length_radius_are_shapelys_to_the_last_bit(corners):
+    from tentaclass.scanner._geometry import hull_measures
+
+    xy, starts, polys = _ragged(_hull_rings(corners, seed=5), shift_seed=1)
+    area, length, radius = hull_measures(xy, starts)
+    assert np.array_equal(area, shapely.area(polys))
+    assert np.array_equal(length, shapely.length(polys))
+    assert np.array_equal(radius, shapely.minimum_bounding_radius(polys))
+
+
+def test_bounding_circle_outline_is_shapelys_to_the_last_bit():
+    from tentaclass.scanner._geometry import circle_outlines
+
+    xy, starts, polys = _ragged(_hull_rings(False, seed=9), shift_seed=2)
+    ours, ours_starts, polygon, centroid = circle_outlines(xy, starts)
+    ref = shapely.minimum_bounding_circle(polys)
+    ref_xy, index = shapely.get_coordinates(ref, return_index=True)
+    assert polygon.all() and np.array_equal(shapely.get_type_id(ref), np.full(len(polys), 3))
+    assert np.array_equal(ours, ref_xy)  # same vertices, same start, same direction
+    assert np.array_equal(ours_starts, np.searchsorted(index, np.arange(len(polys) + 1)))
+    assert np.array_equal(centroid, shapely.get_coordinates(shapely.centroid(ref)))
+
+
+@pytest.mark.parametrize("outline", ["hull", "rectangle", "circle", "tilted"])
+def test_outline_area_bounds_and_orientation_are_shapelys(outline):
+    from tentaclass.scanner._geometry import circle_outlines, min_area_rectangles, outline_measures
+
+    xy, starts, polys = _ragged(_hull_rings(outline != "hull", seed=13), shift_seed=3)
+    if outline == "rectangle":
+        xy = min_area_rectangles(xy, starts).reshape(-1, 2)
+        starts = np.arange(0, xy.shape[0] + 1, 5)
+    elif outline == "circle":
+        xy, starts = circle_outlines(xy, starts)[:2]
+    elif outline == "tilted":  # clockwise and counter-clockwise rings of any direction
+        rng = np.random.default_rng(4)
+        rings = [xy[a:b] for a, b in itertools.pairwise(starts)]
+        rings = [r[::-1] if rng.random() < 0.5 else r for r in rings]
+        t = rng.uniform(0, 2 * np.pi)
+        rot = np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
+        xy = np.concatenate(rings) @ rot
+    polys = [shapely.polygons(xy[a:b]) for a, b in itertools.pairwise(starts)]
+    area, bounds, oriented = outline_measures(xy, starts, np.ones(len(polys), dtype=bool))
+    assert np.array_equal(area, shapely.area(polys))
+    assert np.array_equal(bounds, shapely.bounds(polys))
+    assert np.array_equal(oriented, shapely.get_coordinates(shapely.orient_polygons(polys)))

@@ -66,3 +66,17 @@ def test_fast_record_constructors_give_the_dataclasses():
     assert new_inspection(*i).to_dict() == Inspection(*i).to_dict()
     assert new_scanned(3, 1, 4, Inspection(*i)) == ScannedObject(3, 1, 4, Inspection(*i))
     assert hash(new_inspection(*i)) == hash(Inspection(*i))
+
+
+def test_shifted_moves_every_coordinate_and_back():
+    from tentaclass.scanner import inspect
+
+    grid = np.ones((6, 6), dtype=bool)
+    grid[2:4, 2:4] = False  # a hole
+    r = inspect(grid)
+    moved = r.shifted(10, -3)
+    assert moved.bbox == (r.bbox[0] + 10, r.bbox[1] - 3, r.bbox[2] + 10, r.bbox[3] - 3)
+    assert moved.centroid == (r.centroid[0] + 10, r.centroid[1] - 3)
+    assert [d.bbox for d in moved.defects] == [(12, -1, 14, 1)]
+    assert moved.defects[0].centroid == (12.5, -0.5)
+    assert moved.shifted(-10, 3) == r

@@ -33,6 +33,33 @@ def _cross(ox, oy, ax, ay, bx, by):
 
 
 @nb.njit(**_OPTS)
+def _monotone_chain(a, b):
+    """Andrew's monotone chain over points sorted by ``a``, then ``b``, without duplicates.
+
+    Returns the hull's vertices ``(ha[:k], hb[:k])``, counter-clockwise in the
+    ``(a, b)`` frame, collinear points dropped; ``k < 3`` if all are collinear.
+    """
+    m = a.shape[0]
+    ha = np.empty(2 * m + 1)
+    hb = np.empty(2 * m + 1)
+    k = 0
+    for i in range(m):  # lower hull
+        while k >= 2 and _cross(ha[k - 2], hb[k - 2], ha[k - 1], hb[k - 1], a[i], b[i]) <= 0:
+            k -= 1
+        ha[k] = a[i]
+        hb[k] = b[i]
+        k += 1
+    lo = k + 1
+    for i in range(m - 2, -1, -1):  # upper hull
+        while k >= lo and _cross(ha[k - 2], hb[k - 2], ha[k - 1], hb[k - 1], a[i], b[i]) <= 0:
+            k -= 1
+        ha[k] = a[i]
+        hb[k] = b[i]
+        k += 1
+    return ha, hb, k - 1  # (the last point repeats the first)
+
+
+@nb.njit(**_OPTS)
 def hull_ring(x, y):
     """Closed hull ring ``(m + 1, 2)`` of the points ``(x, y)`` in GEOS's order.
 
@@ -59,23 +86,7 @@ def hull_ring(x, y):
             out[i, 0] = ux[i]
             out[i, 1] = uy[i]
         return out
-    hx = np.empty(2 * m)
-    hy = np.empty(2 * m)
-    k = 0
-    for i in range(m):  # lower hull
-        while k >= 2 and _cross(hx[k - 2], hy[k - 2], hx[k - 1], hy[k - 1], ux[i], uy[i]) <= 0:
-            k -= 1
-        hx[k] = ux[i]
-        hy[k] = uy[i]
-        k += 1
-    lo = k + 1
-    for i in range(m - 2, -1, -1):  # upper hull
-        while k >= lo and _cross(hx[k - 2], hy[k - 2], hx[k - 1], hy[k - 1], ux[i], uy[i]) <= 0:
-            k -= 1
-        hx[k] = ux[i]
-        hy[k] = uy[i]
-        k += 1
-    k -= 1  # the last point repeats the first; hx[:k] is counter-clockwise
+    hx, hy, k = _monotone_chain(ux[:m], uy[:m])  # hx[:k] is counter-clockwise
     if k < 3:
         out = np.empty((2, 2))
         out[0, 0], out[0, 1] = ux[0], uy[0]
@@ -119,19 +130,18 @@ def max_distance_outside(ring, px, py):
 
 
 @nb.njit(**_OPTS)
-def fill_holes(mask):
-    """``mask`` with every background region not 4-connected to the border filled."""
+def _fill_holes_into(mask, out, stack):
+    """:func:`fill_holes` written into ``out`` (same shape); ``stack``: room for every pixel."""
     h, w = mask.shape
-    outside = np.zeros((h, w), dtype=np.bool_)
-    stack = np.empty(h * w * 4 + 4, dtype=np.int64)
+    out[:] = True  # False: background reached from the border
     top = 0
     for k in range(2 * (h + w)):  # the border: left, right, top and bottom edges
         if k < 2 * h:
             r, c = k % h, 0 if k < h else w - 1
         else:
             r, c = 0 if k < 2 * h + w else h - 1, (k - 2 * h) % w
-        if not mask[r, c] and not outside[r, c]:
-            outside[r, c] = True
+        if not mask[r, c] and out[r, c]:
+            out[r, c] = False
             stack[top] = r * w + c
             top += 1
     while top > 0:
@@ -139,20 +149,23 @@ def fill_holes(mask):
         r, c = divmod(stack[top], w)
         for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
             rr, cc = r + dr, c + dc
-            if 0 <= rr < h and 0 <= cc < w and not mask[rr, cc] and not outside[rr, cc]:
-                outside[rr, cc] = True
+            if 0 <= rr < h and 0 <= cc < w and not mask[rr, cc] and out[rr, cc]:
+                out[rr, cc] = False
                 stack[top] = rr * w + cc
                 top += 1
-    return ~outside
 
 
 @nb.njit(**_OPTS)
-def mask_hull(mask, corners):
-    """:func:`hull_ring` of the pixel squares' corners (or centres) of a mask.
+def fill_holes(mask):
+    """``mask`` with every background region not 4-connected to the border filled."""
+    out = np.empty(mask.shape, dtype=np.bool_)
+    _fill_holes_into(mask, out, np.empty(mask.size, dtype=np.int64))
+    return out
 
-    Only the first and last pixel of each row can be hull vertices: at most
-    ``4 * n_rows`` points.
-    """
+
+@nb.njit(**_OPTS)
+def _mask_points(mask, corners):
+    """The points :func:`mask_hull` takes the hull of: each row's first and last pixel."""
     h, w = mask.shape
     x = np.empty(4 * h)
     y = np.empty(4 * h)
@@ -176,7 +189,69 @@ def mask_hull(mask, corners):
             x[n], y[n] = first, r
             x[n + 1], y[n + 1] = last, r
             n += 2
-    return hull_ring(x[:n], y[:n])
+    return x[:n], y[:n]
+
+
+@nb.njit(**_OPTS)
+def mask_hull(mask, corners):
+    """:func:`hull_ring` of the pixel squares' corners (or centres) of a mask.
+
+    Only the first and last pixel of each row can be hull vertices, and of
+    the points on one line ``y = const`` only the leftmost and the rightmost:
+    these come sorted by ``y`` then ``x`` from a pass over the rows, so the
+    monotone chain runs along ``y`` without sorting. The hull's vertices are
+    the same (the extreme points, exact in half pixels), given in GEOS's
+    order; collinear points (a line or a point: no polygon) go to
+    :func:`hull_ring`.
+    """
+    h, w = mask.shape
+    first = np.full(h, -1, dtype=np.int64)
+    last = np.full(h, -1, dtype=np.int64)
+    for r in range(h):
+        for c in range(w):
+            if mask[r, c]:
+                if first[r] < 0:
+                    first[r] = c
+                last[r] = c
+    # the levels y = const, bottom up, each with its leftmost and rightmost point
+    px = np.empty(2 * h + 2)
+    py = np.empty(2 * h + 2)
+    n = 0
+    for k in range(h + 1 if corners else h):
+        lo = np.inf
+        hi = -np.inf
+        if corners:
+            for r in (k - 1, k):  # the row below ends and the row above starts at y = k - 0.5
+                if 0 <= r < h and first[r] >= 0:
+                    lo = min(lo, first[r] - 0.5)
+                    hi = max(hi, last[r] + 0.5)
+            level = k - 0.5
+        else:
+            if first[k] >= 0:
+                lo, hi = float(first[k]), float(last[k])
+            level = float(k)
+        if lo > hi:
+            continue
+        px[n], py[n] = lo, level
+        n += 1
+        if hi != lo:
+            px[n], py[n] = hi, level
+            n += 1
+    # the monotone chain with y as the sort axis: counter-clockwise with x and y swapped
+    hy, hx, k = _monotone_chain(py[:n], px[:n])
+    if k < 3:
+        x, y = _mask_points(mask, corners)
+        return hull_ring(x, y)
+    start = 0
+    for i in range(1, k):
+        if hy[i] < hy[start] or (hy[i] == hy[start] and hx[i] < hx[start]):
+            start = i
+    out = np.empty((k + 1, 2))
+    for j in range(k + 1):  # clockwise with x and y as they are: walk forwards
+        i = (start + j) % k
+        out[j, 0] = hx[i]
+        out[j, 1] = hy[i]
+    return out
 
 
 @nb.njit(**_OPTS)
@@ -300,9 +375,13 @@ def measure_batch(flat, starts, heights, widths):
     filled = np.empty(flat.shape[0], dtype=np.bool_)
     area = np.zeros(n, dtype=np.int64)
     sums = np.zeros((n, 2))
+    biggest = 0
+    for i in range(n):
+        biggest = max(biggest, heights[i] * widths[i])
+    stack = np.empty(biggest, dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
-        filled[starts[i] : starts[i] + m.size] = fill_holes(m).ravel()
+        _fill_holes_into(m, _mask_of(filled, starts, heights, widths, i), stack)
         a = 0
         sr = 0
         sc = 0
@@ -446,8 +525,8 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
 
 @nb.njit(**_OPTS)
 def defect_groups(
-    flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts,
-    vert_starts, circles, limits, extents, margin, min_hole_area, min_burr_area,
+    flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts, vert_lo,
+    vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
 ):  # fmt: skip
     """Holes, and groups of missing and extra pixels large and deep enough, of every object.
 
@@ -458,8 +537,8 @@ def defect_groups(
     points; on a canvas of ``canvas[i]`` pixels whose top-left pixel is at
     ``lo[i]`` in mask coordinates. ``limits[i]`` are the smallest area and
     depth of a group, the corner radius and a fifth of the outline's area;
-    ``extents[i]`` the grid in mask coordinates; ``verts`` the outline
-    vertices that mark broken corners.
+    ``extents[i]`` the grid in mask coordinates; ``verts[vert_lo[i]:vert_hi[i]]``
+    the outline vertices that mark broken corners.
 
     Returns ``ints`` (one row per group: object, code, area, row0, col0, row1,
     col1; box in mask coordinates) and ``floats`` (centroid row, column,
@@ -476,31 +555,45 @@ def defect_groups(
         f = _mask_of(filled, starts, heights, widths, i)
         h, w = m.shape
         sd = np.empty((0, 0))
-        cm = np.zeros((0, 0), dtype=np.bool_)
-        cf = np.zeros((0, 0), dtype=np.bool_)
+        # holes (in the mask), missing and extra pixels (on the canvas), and how many
+        holes = np.empty((h, w), dtype=np.bool_)
+        found = np.zeros(3, dtype=np.int64)
+        for r in range(h):
+            for c in range(w):
+                holes[r, c] = f[r, c] and not m[r, c]
+                found[0] += holes[r, c]
+        missing = np.empty((0, 0), dtype=np.bool_)
+        extra = np.empty((0, 0), dtype=np.bool_)
         if kind[i] != 0:
             ch, cw = canvas[i, 0], canvas[i, 1]
             a, b = ring_starts[i], ring_starts[i + 1]
             sd = _signed_distance(kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw)
-            cm = np.zeros((ch, cw), dtype=np.bool_)
-            cf = np.zeros((ch, cw), dtype=np.bool_)
-            cm[-lo[i, 0] : -lo[i, 0] + h, -lo[i, 1] : -lo[i, 1] + w] = m
-            cf[-lo[i, 0] : -lo[i, 0] + h, -lo[i, 1] : -lo[i, 1] + w] = f
+            missing = np.empty((ch, cw), dtype=np.bool_)
+            extra = np.empty((ch, cw), dtype=np.bool_)
+            for y in range(ch):
+                r = y + lo[i, 0]
+                for x in range(cw):
+                    c = x + lo[i, 1]
+                    inside = 0 <= r < h and 0 <= c < w
+                    missing[y, x] = sd[y, x] >= margin and not (inside and f[r, c])
+                    extra[y, x] = inside and m[r, c] and sd[y, x] < -(1.0 + margin)
+                    found[1] += missing[y, x]
+                    found[2] += extra[y, x]
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
             if group == 0:
-                region = f & ~m
+                region = holes
                 lo0, lo1 = 0, 0
             elif kind[i] == 0:
                 break
             elif group == 1:
-                region = (sd >= margin) & ~cf
+                region = missing
                 smallest = limits[i, 0]
             else:
-                region = cm & (sd < -(1.0 + margin))
+                region = extra
                 smallest = min_burr_area
-            if not region.any():
+            if found[group] == 0 or found[group] < smallest:  # no group can be large enough
                 continue
             rr, cc, gs = label_runs(region, group != 0)
             for q in range(gs.shape[0] - 1):
@@ -547,7 +640,7 @@ def defect_groups(
                     else:
                         code = BITE
                         near = np.inf
-                        for v in range(vert_starts[i], vert_starts[i + 1]):
+                        for v in range(vert_lo[i], vert_hi[i]):
                             vx, vy = verts[v, 0] - lo1, verts[v, 1] - lo0
                             for p in range(a, b):
                                 near = min(near, np.hypot(vx - cc[p], vy - rr[p]))
@@ -594,20 +687,22 @@ def _obtuse(x0, y0, x1, y1, x2, y2):
 
 
 @nb.njit(**_OPTS)
-def bounding_radius(px, py):
-    """Radius of the smallest circle around a convex ring's vertices (not closed).
+def bounding_circle(px, py):
+    """Centre and radius of the smallest circle around a convex ring's vertices (not closed).
 
     The algorithm and arithmetic of GEOS's MinimumBoundingCircle (walk from
     the lowest point, then the point of least angle with the x axis, to the
-    pair or triple of points that fixes the circle), so the radius is the one
-    :func:`shapely.minimum_bounding_radius` gives for the same ring.
+    pair or triple of points that fixes the circle), so centre and radius are
+    those :func:`shapely.minimum_bounding_circle` and
+    :func:`shapely.minimum_bounding_radius` give for the same ring. Returns
+    ``(cx, cy, radius)``.
     """
     n = px.shape[0]
     if n == 1:
-        return 0.0
+        return px[0], py[0], 0.0
     if n == 2:
         cx, cy = (px[0] + px[1]) / 2.0, (py[0] + py[1]) / 2.0
-        return np.sqrt((cx - px[0]) ** 2 + (cy - py[0]) ** 2)
+        return cx, cy, np.sqrt((cx - px[0]) ** 2 + (cy - py[0]) ** 2)
     p = 0
     for i in range(n):
         if py[i] < py[p]:
@@ -634,7 +729,7 @@ def bounding_radius(px, py):
         if _obtuse(px[p], py[p], px[r], py[r], px[q], py[q]):
             cx, cy = (px[p] + px[q]) / 2.0, (py[p] + py[q]) / 2.0
             dx, dy = cx - px[p], cy - py[p]
-            return np.sqrt(dx * dx + dy * dy)
+            return cx, cy, np.sqrt(dx * dx + dy * dy)
         if _obtuse(px[r], py[r], px[p], py[p], px[q], py[q]):
             p = r
             continue
@@ -651,8 +746,14 @@ def bounding_radius(px, py):
         cx = ccx - numx / denom
         cy = ccy + numy / denom
         dx, dy = cx - px[p], cy - py[p]
-        return np.sqrt(dx * dx + dy * dy)
-    return np.nan
+        return cx, cy, np.sqrt(dx * dx + dy * dy)
+    return np.nan, np.nan, np.nan
+
+
+@nb.njit(**_OPTS)
+def bounding_radius(px, py):
+    """Radius of :func:`bounding_circle` (:func:`shapely.minimum_bounding_radius`)."""
+    return bounding_circle(px, py)[2]
 
 
 @nb.njit(**_OPTS)
@@ -1022,3 +1123,318 @@ def min_area_rectangles(coords, ring_starts):
     for i in range(n):
         min_area_rectangle(coords[ring_starts[i] : ring_starts[i + 1]], out[i])
     return out
+
+
+# -- areas, lengths, orientations and circles as GEOS computes them ------------------------------
+_QUADRANT_SEGMENTS = 8  # GEOS's default for buffers
+# shapely calls on thousands of small polygons cost more in building the geometries than
+# in the arithmetic; these kernels do the arithmetic of GEOS itself on ragged rings (closed,
+# ``coords[starts[i]:starts[i + 1]]``), in its order, so the results are the same bits.
+
+
+@nb.njit(**_OPTS)
+def _ring_area_signed(ring):
+    """GEOS's Area::ofRingSigned of a closed ring (shoelace from the first vertex's x)."""
+    n = ring.shape[0]
+    if n < 3:
+        return 0.0
+    x0 = ring[0, 0]
+    s = 0.0
+    for i in range(1, n - 1):
+        s += (ring[i, 0] - x0) * (ring[i - 1, 1] - ring[i + 1, 1])
+    return s / 2.0
+
+
+@nb.njit(**_OPTS)
+def _ring_length(ring):
+    """GEOS's Length::ofLine: the sum of the segment lengths, in order."""
+    total = 0.0
+    for i in range(1, ring.shape[0]):
+        dx = ring[i, 0] - ring[i - 1, 0]
+        dy = ring[i, 1] - ring[i - 1, 1]
+        total += np.sqrt(dx * dx + dy * dy)
+    return total
+
+
+@nb.njit(**_OPTS)
+def hull_measures(coords, starts):
+    """Area, perimeter and minimum bounding radius of each closed convex ring.
+
+    :func:`shapely.area`, :func:`shapely.length` and
+    :func:`shapely.minimum_bounding_radius` of the rings' polygons.
+    """
+    n = starts.shape[0] - 1
+    area = np.empty(n)
+    length = np.empty(n)
+    radius = np.empty(n)
+    for i in range(n):
+        ring = coords[starts[i] : starts[i + 1]]
+        area[i] = abs(_ring_area_signed(ring))
+        length[i] = _ring_length(ring)
+        radius[i] = bounding_radius(ring[:-1, 0], ring[:-1, 1])
+    return area, length, radius
+
+
+@nb.njit(**_OPTS)
+def _same(ring, i, j):
+    return ring[i, 0] == ring[j, 0] and ring[i, 1] == ring[j, 1]
+
+
+@nb.njit(**_OPTS)
+def _is_ccw(ring):
+    """GEOS's Orientation::isCCW of a closed ring of at least 4 points."""
+    n_pts = ring.shape[0] - 1
+    i_up_hi = 0
+    i_up_lo = -1
+    hi_y = ring[0, 1]
+    prev_y = hi_y
+    for i in range(1, n_pts + 1):
+        py = ring[i, 1]
+        if py > prev_y and py >= hi_y:
+            i_up_hi = i
+            i_up_lo = i - 1
+            hi_y = py
+        prev_y = py
+    if i_up_hi == 0:
+        return False
+    i_down_lo = i_up_hi
+    while True:
+        i_down_lo = (i_down_lo + 1) % n_pts
+        if i_down_lo == i_up_hi or ring[i_down_lo, 1] != hi_y:
+            break
+    i_down_hi = i_down_lo - 1 if i_down_lo > 0 else n_pts - 1
+    if _same(ring, i_up_hi, i_down_hi):
+        if (
+            _same(ring, i_up_lo, i_up_hi)
+            or _same(ring, i_down_lo, i_up_hi)
+            or _same(ring, i_up_lo, i_down_lo)
+        ):
+            return False
+        o = _orientation(
+            ring[i_up_lo, 0], ring[i_up_lo, 1], ring[i_up_hi, 0], ring[i_up_hi, 1],
+            ring[i_down_lo, 0], ring[i_down_lo, 1],
+        )  # fmt: skip
+        return o == 1
+    return ring[i_down_hi, 0] - ring[i_up_hi, 0] < 0
+
+
+@nb.njit(**_OPTS)
+def outline_measures(coords, starts, polygon):
+    """Area, bounds and counter-clockwise rings of outlines (``polygon``: a polygon's ring).
+
+    :func:`shapely.area` and :func:`shapely.bounds` of each outline, and the
+    coordinates of :func:`shapely.orient_polygons` (a clockwise ring
+    reversed); rings of points and lines are copied as they are, area 0.
+    """
+    n = starts.shape[0] - 1
+    area = np.zeros(n)
+    bounds = np.empty((n, 4))
+    out = np.empty_like(coords)
+    for i in range(n):
+        a, b = starts[i], starts[i + 1]
+        ring = coords[a:b]
+        x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
+        for k in range(b - a):
+            x0 = min(x0, ring[k, 0])
+            y0 = min(y0, ring[k, 1])
+            x1 = max(x1, ring[k, 0])
+            y1 = max(y1, ring[k, 1])
+        bounds[i, 0], bounds[i, 1], bounds[i, 2], bounds[i, 3] = x0, y0, x1, y1
+        if polygon[i]:
+            area[i] = abs(_ring_area_signed(ring))
+            if not _is_ccw(ring):
+                for k in range(b - a):
+                    out[a + k] = ring[b - a - 1 - k]
+                continue
+        out[a:b] = ring
+    return area, bounds, out
+
+
+@nb.njit(**_OPTS)
+def _circle_ring(ring, out, k):
+    """GEOS's minimum bounding circle of a convex ring (not closed), written at ``out[k:]``.
+
+    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
+    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
+    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
+    closed; a zero radius gives the centre point. Returns the end of the ring
+    in ``out`` and whether it is a polygon.
+    """
+    segs = int(abs(0.0 - 2.0 * np.pi) / (np.pi / 2.0 / _QUADRANT_SEGMENTS) + 0.5)
+    inc = abs(0.0 - 2.0 * np.pi) / segs
+    cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
+    a = k
+    if r == 0.0:
+        out[k, 0], out[k, 1] = cx, cy
+        return k + 1, False
+    out[k, 0], out[k, 1] = cx + r, cy
+    k += 1
+    near = r * 1e-6
+    for j in range(segs):
+        angle = 0.0 + (-j) * inc
+        s = np.sin(angle)
+        c = np.cos(angle)
+        if abs(s) < 5e-16:
+            s = 0.0
+        if abs(c) < 5e-16:
+            c = 0.0
+        x, y = cx + r * c, cy + r * s
+        dx, dy = x - out[k - 1, 0], y - out[k - 1, 1]
+        if np.sqrt(dx * dx + dy * dy) < near:
+            continue
+        out[k, 0], out[k, 1] = x, y
+        k += 1
+    if out[k - 1, 0] != out[a, 0] or out[k - 1, 1] != out[a, 1]:
+        out[k, 0], out[k, 1] = out[a, 0], out[a, 1]
+        k += 1
+    return k, True
+
+
+@nb.njit(**_OPTS)
+def circle_outlines(coords, starts):
+    """:func:`shapely.minimum_bounding_circle` of closed convex rings, as GEOS builds them.
+
+    See :func:`_circle_ring`. Returns the rings (ragged, with their starts),
+    whether each is a polygon and the centroids of the polygons as GEOS
+    computes them (triangles fanned from the first vertex).
+    """
+    n = starts.shape[0] - 1
+    out = np.empty((n * (4 * _QUADRANT_SEGMENTS + 2), 2))
+    out_starts = np.zeros(n + 1, dtype=np.int64)
+    polygon = np.zeros(n, dtype=np.bool_)
+    centroid = np.zeros((n, 2))
+    k = 0
+    for i in range(n):
+        a = k
+        k, polygon[i] = _circle_ring(coords[starts[i] : starts[i + 1] - 1], out, k)
+        if polygon[i]:
+            centroid[i] = _centroid(out[a:k])
+        out_starts[i + 1] = k
+    return out[:k], out_starts, polygon, centroid
+
+
+HULL, RECTANGLE, CIRCLE, TRIANGLE = range(4)  # expected outlines (:func:`expected_outlines`)
+
+
+@nb.njit(**_OPTS)
+def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts, tri_found, tris):
+    """Expected outlines of convex rings (closed, one after the other), as shapely gives them.
+
+    ``shape[i]`` says which outline ring ``i`` (a polygon's) gets: ``HULL``
+    the ring itself, ``RECTANGLE`` its minimum rotated rectangle
+    (:func:`min_area_rectangle`), ``CIRCLE`` its minimum bounding circle
+    (:func:`_circle_ring`), ``TRIANGLE`` the next triangle of ``tris``
+    (closed), or where ``tri_found`` is False the next ring of ``(tri_xy,
+    tri_starts)``. Returns the outlines' rings (closed, one after the other;
+    a point or a line as they are), their starts, whether each is a polygon
+    and the centroids of the circles.
+    """
+    n = ring_starts.shape[0] - 1
+    cap = 0
+    t = 0
+    for i in range(n):
+        m = ring_starts[i + 1] - ring_starts[i]
+        if shape[i] == RECTANGLE:
+            cap += 5
+        elif shape[i] == CIRCLE:
+            cap += 4 * _QUADRANT_SEGMENTS + 2
+        elif shape[i] == TRIANGLE:
+            cap += 4 if tri_found[t] else tri_starts[t + 1] - tri_starts[t]
+            t += 1
+        else:
+            cap += m
+    out = np.empty((cap, 2))
+    starts = np.zeros(n + 1, dtype=np.int64)
+    polygon = np.zeros(n, dtype=np.bool_)
+    centroid = np.zeros((n, 2))
+    k = 0
+    t = 0
+    for i in range(n):
+        ring = rings[ring_starts[i] : ring_starts[i + 1]]
+        if shape[i] == RECTANGLE:
+            min_area_rectangle(ring, out[k : k + 5])
+            k += 5
+            polygon[i] = True
+        elif shape[i] == CIRCLE:
+            a = k
+            k, polygon[i] = _circle_ring(ring[:-1], out, k)
+            if polygon[i]:
+                centroid[i] = _centroid(out[a:k])
+        elif shape[i] == TRIANGLE and tri_found[t]:
+            for j in range(4):
+                out[k + j, 0], out[k + j, 1] = tris[t, j % 3, 0], tris[t, j % 3, 1]
+            k += 4
+            polygon[i] = True
+            t += 1
+        else:
+            if shape[i] == TRIANGLE:
+                ring = tri_xy[tri_starts[t] : tri_starts[t + 1]]
+                t += 1
+            out[k : k + ring.shape[0]] = ring
+            k += ring.shape[0]
+            polygon[i] = ring.shape[0] >= 4
+        starts[i + 1] = k
+    return out[:k], starts, polygon, centroid
+
+
+@nb.njit(**_OPTS)
+def _centroid(ring):
+    """GEOS's Centroid of a polygon's shell (closed ring), area-weighted from its first vertex."""
+    sign = -1.0 if _is_ccw(ring) else 1.0
+    bx, by = ring[0, 0], ring[0, 1]
+    gx = 0.0
+    gy = 0.0
+    total = 0.0
+    for i in range(ring.shape[0] - 1):
+        p1x, p1y = ring[i, 0], ring[i, 1]
+        p2x, p2y = ring[i + 1, 0], ring[i + 1, 1]
+        tx = bx + p1x + p2x
+        ty = by + p1y + p2y
+        a2 = (p1x - bx) * (p2y - by) - (p2x - bx) * (p1y - by)
+        gx += sign * a2 * tx
+        gy += sign * a2 * ty
+        total += sign * a2
+    return np.array([gx / 3 / total, gy / 3 / total])
+
+
+@nb.njit(**_OPTS)
+def defect_setup(
+    xy, starts, polygon, circle, cornered, heights, widths, obj_area, width, length, min_area,
+    min_area_fraction, min_depth,
+):  # fmt: skip
+    """What :func:`defect_groups` needs of each object, from its expected outline.
+
+    The outline (closed rings ``xy``, one after the other) is compared with
+    the object when it is a polygon of area at least 4: ``kind`` 1 (2 for a
+    ``circle``); its canvas covers mask and outline with 2 pixels to spare
+    (top-left pixel ``lo``, size ``canvas``); its ring is made
+    counter-clockwise; the vertices of ``cornered`` outlines mark broken
+    corners (``vert_lo``, ``vert_hi``); ``limits`` are the thresholds of
+    :class:`~tentaclass.scanner.DefectSettings` for the object's area, width
+    and length, the corner radius and a fifth of the outline's area.
+    """
+    area, bounds, rings = outline_measures(xy, starts, polygon)
+    n = starts.shape[0] - 1
+    kind = np.zeros(n, dtype=np.int64)
+    lo = np.zeros((n, 2), dtype=np.int64)
+    canvas = np.zeros((n, 2), dtype=np.int64)
+    vert_lo = starts[:-1].copy()
+    vert_hi = starts[:-1].copy()
+    limits = np.empty((n, 4))
+    for i in range(n):
+        if polygon[i] and area[i] >= 4:
+            kind[i] = 2 if circle[i] else 1
+            x0, y0, x1, y1 = bounds[i, 0], bounds[i, 1], bounds[i, 2], bounds[i, 3]
+            lo[i, 0] = int(np.floor(min(y0, 0.0) - 2))
+            lo[i, 1] = int(np.floor(min(x0, 0.0) - 2))
+            canvas[i, 0] = int(np.ceil(max(y1, float(heights[i])) + 2)) - lo[i, 0]
+            canvas[i, 1] = int(np.ceil(max(x1, float(widths[i])) + 2)) - lo[i, 1]
+            if cornered[i]:
+                vert_hi[i] = starts[i + 1] - 1
+        pixels = float(obj_area[i])
+        small = min(min_area, max(1.0, 0.1 * pixels))
+        limits[i, 0] = max(small, min_area_fraction * pixels)
+        limits[i, 1] = min(min_depth, max(1.0, 0.2 * width[i]))
+        limits[i, 2] = min(3.0, max(1.0, 0.1 * length[i]))
+        limits[i, 3] = 0.2 * area[i]
+    return kind, lo, canvas, rings, vert_lo, vert_hi, limits

@@ -341,3 +341,15 @@ def grow(pools: dict, width: int) -> None:
     out_runs = np.zeros((2 * m + per_row, 3), dtype=np.int64)
     out_runs[: pools["out_runs"].shape[0]] = pools["out_runs"]
     pools["out_runs"] = out_runs
+
+
+def compact_output(out: np.ndarray, out_runs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Output rows with only their own runs kept, one after the other (renumbered)."""
+    counts = out[:, 6] - out[:, 5]
+    starts = np.zeros(out.shape[0] + 1, dtype=np.int64)
+    np.cumsum(counts, out=starts[1:])
+    index = np.repeat(out[:, 5] - starts[:-1], counts) + np.arange(starts[-1])
+    new = out.copy()
+    new[:, 5] = starts[:-1]
+    new[:, 6] = starts[1:]
+    return new, out_runs[index]

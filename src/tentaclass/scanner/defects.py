@@ -33,7 +33,7 @@ from .descriptors import (
     MaskBatch,
     flatten_masks,
     polygons_from_rings,
-    rectangles_of_rings,
+    take_rings,
 )
 from .records import Defect, new_defect
 
@@ -102,7 +102,9 @@ class DefectSettings:
         return min(self.min_depth, max(1.0, 0.2 * object_width))
 
 
-def _enclosing_triangles(hulls: np.ndarray) -> np.ndarray:
+def _triangles(
+    rings: np.ndarray, ring_starts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Smallest triangle with each side on a line through an edge of each hull.
 
     Every such triangle encloses the hull (each side is a supporting line), so
@@ -110,11 +112,17 @@ def _enclosing_triangles(hulls: np.ndarray) -> np.ndarray:
     is the classic result that a minimal enclosing triangle has a side flush
     with the polygon, applied to all three sides: no library offers it, and a
     search over edge triples is fast for hulls of tens of edges. The hulls
-    are simplified first (tolerance 0.25 px), and the sides lie on the 12
-    longest edges; a hull with no qualifying triple stays (simplified).
+    (closed rings, one after the other) are simplified first (tolerance 0.25
+    px, :func:`shapely.simplify`), and the sides lie on the 12 longest edges;
+    a hull with no qualifying triple stays (simplified). Returns the
+    simplified rings (closed, one after the other), their starts, whether a
+    triangle was found and the triangles ``(n, 3, 2)``.
     """
-    simple = shapely.simplify(hulls, 0.25)
-    xy, index = shapely.get_coordinates(shapely.orient_polygons(simple), return_index=True)
+    n = ring_starts.size - 1
+    simple = shapely.simplify(polygons_from_rings(rings, ring_starts), 0.25)
+    sxy, index = shapely.get_coordinates(simple, return_index=True)
+    starts = np.searchsorted(index, np.arange(n + 1))
+    xy = geo.outline_measures(sxy, starts, np.diff(starts) >= 4)[2]  # counter-clockwise
     d = np.diff(xy, axis=0)
     keep = (index[1:] == index[:-1]) & (np.hypot(d[:, 0], d[:, 1]) > 1e-9)
     p, d, index = xy[:-1][keep], d[keep], index[:-1][keep]
@@ -130,51 +138,43 @@ def _enclosing_triangles(hulls: np.ndarray) -> np.ndarray:
     ph -= dd
     np.copyto(ph, 0, where=abs(dd) < np.pi)
     ph = np.append(ph, 0.0)
-    starts = np.searchsorted(index, np.arange(hulls.size + 1))
-    found, tris = geo.triangle_search(normal, c, theta, ph, length, starts)
-    out = simple.copy()
-    out[found] = shapely.polygons(tris[found])
-    return out
-
-
-def _expected_outlines(
-    rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence | np.ndarray
-) -> np.ndarray:
-    """:func:`expected_outline` of each centre hull ring (rings one after the other)."""
-    n = ring_starts.size - 1
-    counts = np.diff(ring_starts)
-    poly = counts >= 4
-    out = np.empty(n, dtype=object)
-    # degenerate hulls (all centres on a line) as shapely's convex_hull gives them
-    for k, make in ((1, shapely.points), (2, shapely.linestrings)):
-        sel = counts == k
-        if sel.any():
-            take = np.repeat(sel, counts)
-            index = np.repeat(np.arange(int(sel.sum())), k)
-            out[sel] = make(rings[take], indices=index) if k == 2 else make(rings[take])
-    if not poly.any():
-        return out
-    labels = np.array([str(x) for x in labels])
-    rect = poly & ((labels == "square") | (labels == "rectangle"))
-    circle = poly & (labels == "circle")
-    triangle = poly & (labels == "triangle")
-    other = poly & ~(rect | circle | triangle)
-    hulls = np.empty(n, dtype=object)
-    shaped = poly & ~rect  # (rectangles come from the rings directly)
-    take = np.repeat(shaped, counts)
-    hulls[shaped] = polygons_from_rings(
-        rings[take], np.concatenate([[0], np.cumsum(counts[shaped])])
+    found, tris = geo.triangle_search(
+        normal, c, theta, ph, length, np.searchsorted(index, np.arange(n + 1))
     )
-    if rect.any():
-        take = np.repeat(rect, counts)
-        out[rect] = rectangles_of_rings(
-            rings[take], np.concatenate([[0], np.cumsum(counts[rect])])
-        )[1]
-    out[circle] = shapely.minimum_bounding_circle(hulls[circle])
+    return sxy, starts, found, tris
+
+
+_SHAPES = {
+    "square": geo.RECTANGLE,
+    "rectangle": geo.RECTANGLE,
+    "circle": geo.CIRCLE,
+    "triangle": geo.TRIANGLE,
+}
+
+
+def _expected_rings(
+    rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence | np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`expected_outline` of each centre hull ring (closed, one after the other).
+
+    Returns the outlines' rings as shapely gives their coordinates (closed,
+    one after the other; a point or a line for hulls of collinear centres),
+    their starts, whether each is a polygon, the circles' centroids (zero for
+    the other outlines) and the shape each label asks for.
+    """
+    code = np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
+    shape = np.where(np.diff(ring_starts) >= 4, code, geo.HULL)
+    triangle = shape == geo.TRIANGLE
     if triangle.any():
-        out[triangle] = _enclosing_triangles(hulls[triangle])
-    out[other] = hulls[other]
-    return out
+        tri = _triangles(*take_rings(rings, ring_starts, triangle))
+    else:
+        tri = (
+            np.zeros((0, 2)),
+            np.zeros(1, dtype=np.int64),
+            np.zeros(0, bool),
+            np.zeros((0, 3, 2)),
+        )
+    return (*geo.expected_outlines(rings, ring_starts, shape, *tri), code)
 
 
 def _centre_rings(cores: MaskBatch) -> tuple[np.ndarray, np.ndarray]:
@@ -212,16 +212,11 @@ def expected_outline(g: Geometry, label: str | None) -> shapely.Geometry:
     >>> expected_outline(g, "rectangle").bounds
     (0.0, 0.0, 3.0, 2.0)
     """
-    return _expected_outlines(*_centre_rings(flatten_masks([g.core])), [label])[0]
-
-
-def _ragged(geoms: np.ndarray, n: int, drop_last: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """Coordinates of geometries (``None``: none) one after the other, and their starts."""
-    xy, index = shapely.get_coordinates(geoms, return_index=True)
-    if drop_last and index.size:
-        last = np.append(index[1:] != index[:-1], True)
-        xy, index = xy[~last], index[~last]
-    return np.ascontiguousarray(xy), np.searchsorted(index, np.arange(n + 1))
+    xy, starts, polygon = _expected_rings(*_centre_rings(flatten_masks([g.core])), [label])[:3]
+    ring = xy[starts[0] : starts[1]]
+    if polygon[0]:
+        return shapely.polygons(ring)
+    return shapely.linestrings(ring) if len(ring) == 2 else shapely.points(ring[0])
 
 
 _KINDS = {
@@ -231,6 +226,70 @@ _KINDS = {
     geo.BITE: ("bite", "material missing, {} px"),
     geo.BURR: ("burr", "extra material, {} px"),
 }
+
+
+def defect_arrays(
+    batch: MaskBatch,
+    object_area: np.ndarray,
+    width: Sequence[float],
+    length: Sequence[float],
+    labels: Sequence[str | None],
+    settings: DefectSettings,
+    extents: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Defects of the objects of a measured batch, in arrays.
+
+    ``extents``: ``(n, 4)`` the grid of each object in its mask's
+    coordinates (infinite: no edge). Returns what
+    :func:`~._geometry.defect_groups` returns: ``ints`` (object, code, area,
+    box) and ``floats`` (centroid, depth), one row per defect.
+    """
+    s = settings
+    flat, starts, heights, widths, filled, core = batch
+    assert filled is not None and core is not None  # set by measure_batch_arrays
+    xy, out_starts, polygon, circles, code = _expected_rings(
+        *_centre_rings(batch._replace(mask=core)), labels
+    )
+    cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
+    kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
+        xy, out_starts, polygon, code == geo.CIRCLE, cornered,
+        heights, widths, np.asarray(object_area), np.asarray(width, dtype=float),
+        np.asarray(length, dtype=float), float(s.min_area), float(s.min_area_fraction),
+        float(s.min_depth),
+    )  # fmt: skip
+    return geo.defect_groups(
+        flat, filled, starts, heights, widths, kind, lo, canvas, rings, out_starts, xy,
+        vert_lo, vert_hi, circles, limits, extents.astype(float), float(s.margin),
+        int(s.min_hole_area), float(s.min_burr_area),
+    )  # fmt: skip
+
+
+def defect_records(
+    ints: np.ndarray,
+    floats: np.ndarray,
+    tops: Sequence[int] | None = None,
+    lefts: Sequence[int] | None = None,
+) -> dict[int, list[Defect]]:
+    """The defects of :func:`defect_arrays` as records, by object (only objects with some).
+
+    ``tops``, ``lefts``: rows and columns added to each object's defects'
+    coordinates (as :meth:`Defect.shifted` would), default none.
+    """
+    out: dict[int, list[Defect]] = {}
+    for (i, code, size, r0, c0, r1, c1), (cr, cc, depth) in zip(
+        ints.tolist(), floats.tolist(), strict=True
+    ):
+        name, note = _KINDS[code]
+        depth = 0.0 if code == geo.HOLE else round(depth, 3)
+        dr, dc = (0, 0) if tops is None or lefts is None else (tops[i], lefts[i])
+        box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
+        d = new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size))
+        out.setdefault(i, []).append(d)
+    group = {geo.HOLE: 0, geo.BURR: 2}
+    for found in out.values():
+        if len(found) > 1:  # holes, then missing, then extra material, each largest first
+            found.sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
+    return out
 
 
 def find_defects_many(
@@ -251,72 +310,27 @@ def find_defects_many(
     n = len(geoms)
     if n == 0:
         return []
-    s = settings
     if batch is None:
         batch = flatten_masks([g.mask for g in geoms])
         batch = batch._replace(
             filled=np.concatenate([g.filled.ravel() for g in geoms]),
             core=np.concatenate([g.core.ravel() for g in geoms]),
         )
-    flat, starts, heights, widths, filled, core = batch
-    assert core is not None  # set above or by measure_many
-    outlines = _expected_outlines(*_centre_rings(batch._replace(mask=core)), labels)
-    kind = np.zeros(n, dtype=np.int64)
-    ok = shapely.get_type_id(outlines) == 3  # polygons (None: -1)
-    area = np.zeros(n)
-    area[ok] = shapely.area(outlines[ok])
-    ok &= area >= 4
-    kind[ok] = 1
-    is_circle = np.array([x == "circle" for x in labels])
-    kind[ok & is_circle] = 2
-    used = np.where(ok, outlines, np.array(None, dtype=object))
-    # canvas covering both the mask and the expected outline
-    x0, y0, x1, y1 = shapely.bounds(used).T
-    lo = np.zeros((n, 2), dtype=np.int64)
-    hi = np.zeros((n, 2), dtype=np.int64)
-    lo[ok, 0] = np.floor(np.minimum(y0[ok], 0) - 2)
-    lo[ok, 1] = np.floor(np.minimum(x0[ok], 0) - 2)
-    hi[ok, 0] = np.ceil(np.maximum(y1[ok], heights[ok]) + 2)
-    hi[ok, 1] = np.ceil(np.maximum(x1[ok], widths[ok]) + 2)
-    rings, ring_starts = _ragged(shapely.orient_polygons(used), n)
-    circles = np.zeros((n, 2))
-    if (kind == 2).any():
-        circles[kind == 2] = shapely.get_coordinates(shapely.centroid(used[kind == 2]))
-    cornered = np.array([x in ("square", "rectangle", "triangle") for x in labels])
-    verts, vert_starts = _ragged(
-        np.where(cornered, used, np.array(None, dtype=object)), n, drop_last=True
-    )
-    obj_area = np.array([g.area for g in geoms], dtype=float)
-    small = np.minimum(s.min_area, np.maximum(1.0, 0.1 * obj_area))
-    limits = np.stack(
-        [
-            np.maximum(small, s.min_area_fraction * obj_area),  # s.area_threshold
-            np.minimum(s.min_depth, np.maximum(1.0, 0.2 * np.array([g.width for g in geoms]))),
-            np.minimum(3.0, np.maximum(1.0, 0.1 * np.array([g.length for g in geoms]))),
-            0.2 * area,
-        ],
-        axis=1,
-    )
     ext = np.array([(-np.inf, -np.inf, np.inf, np.inf) if e is None else e for e in extents])
-    ints, floats = geo.defect_groups(
-        flat, filled, starts, heights, widths, kind, lo, hi - lo, rings, ring_starts, verts,
-        vert_starts, circles, limits, ext.astype(float), float(s.margin), int(s.min_hole_area),
-        float(s.min_burr_area),
-    )  # fmt: skip
-    out: list[list[Defect]] = [[] for _ in range(n)]
-    for (i, code, size, r0, c0, r1, c1), (cr, cc, depth) in zip(
-        ints.tolist(), floats.tolist(), strict=True
-    ):
-        name, note = _KINDS[code]
-        depth = 0.0 if code == geo.HOLE else round(depth, 3)
-        dr, dc = (0, 0) if offsets is None else offsets[i]
-        box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
-        out[i].append(new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size)))
-    for i in np.unique(ints[:, 0]).tolist():
-        # holes, then missing, then extra material, each largest first
-        group = {geo.HOLE: 0, geo.BURR: 2}
-        out[i].sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
-    return out
+    ints, floats = defect_arrays(
+        batch,
+        np.array([g.area for g in geoms]),
+        [g.width for g in geoms],
+        [g.length for g in geoms],
+        labels,
+        settings,
+        ext.reshape(n, 4),
+    )
+    if offsets is None:
+        found = defect_records(ints, floats)
+    else:
+        found = defect_records(ints, floats, [o[0] for o in offsets], [o[1] for o in offsets])
+    return [found.get(i, []) for i in range(n)]
 
 
 _CODES = {name: code for code, (name, _) in _KINDS.items()}

@@ -49,8 +49,8 @@ from ..features import fourier_features
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
 from ._geometry import (
-    bounding_radii,
     chord_turns,
+    hull_measures,
     mask_hull,
     measure_batch,
     min_area_rectangles,
@@ -206,6 +206,112 @@ def _rectangle_sides(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nd
     return xy, np.hypot(d1[:, 0], d1[:, 1]), np.hypot(d2[:, 0], d2[:, 1])
 
 
+def take_rings(
+    coords: np.ndarray, starts: np.ndarray, select: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The rings ``select`` (bool, one per ring) of rings stored one after the other."""
+    counts = np.diff(starts)
+    sub = np.zeros(int(select.sum()) + 1, dtype=np.int64)
+    np.cumsum(counts[select], out=sub[1:])
+    return coords[np.repeat(select, counts)], sub
+
+
+def put_rings(
+    out: np.ndarray, out_starts: np.ndarray, index: np.ndarray, coords: np.ndarray,
+    starts: np.ndarray,
+) -> None:  # fmt: skip
+    """Copy ring ``k`` of ``(coords, starts)`` to the place of ring ``index[k]`` in ``out``."""
+    shift = np.repeat(out_starts[index] - starts[:-1], np.diff(starts))
+    out[np.arange(coords.shape[0]) + shift] = coords
+
+
+class Measures(NamedTuple):
+    """What :func:`measure` finds, for a batch of objects in arrays.
+
+    ``batch``: the masks, filled masks and cores in flat buffers; ``area`` the
+    object pixels; ``sums`` the sums of the pixels' row and column indices;
+    ``rings`` the hulls of the cores' pixel squares (closed, one after the
+    other from ``ring_starts``); ``corners`` the minimum rotated rectangles
+    ``(n, 5, 2)``; ``length``, ``width`` and ``orientation`` as in
+    :class:`Geometry`.
+    """
+
+    batch: MaskBatch
+    area: np.ndarray
+    sums: np.ndarray
+    rings: np.ndarray
+    ring_starts: np.ndarray
+    corners: np.ndarray
+    length: list[float]
+    width: list[float]
+    orientation: list[float]
+
+    def geometries(self) -> list[Geometry]:
+        """One :class:`Geometry` per object (shapely hulls and rectangles built here)."""
+        b = self.batch
+        assert b.filled is not None and b.core is not None
+        n = self.area.shape[0]
+        hulls = polygons_from_rings(self.rings, self.ring_starts)
+        rects = polygons_from_rings(self.corners.reshape(5 * n, 2), np.arange(0, 5 * n + 1, 5))
+        geoms = []
+        new = object.__new__
+        for mask, f, core, area, hull, rect, long, short, angle in zip(
+            b.views(b.mask), b.views(b.filled), b.views(b.core), self.area.tolist(), hulls,
+            rects, self.length, self.width, self.orientation, strict=True,
+        ):  # fmt: skip
+            g = new(Geometry)  # Geometry(mask, f, ...) without its frozen __setattr__ per field
+            g.__dict__.update(
+                {"mask": mask, "filled": f, "core": core, "area": area, "hull": hull,
+                 "rect": rect, "length": long, "width": short, "orientation": angle}
+            )  # fmt: skip
+            geoms.append(g)
+        return geoms
+
+
+def measure_batch_arrays(batch: MaskBatch) -> Measures:
+    """:func:`measure` of every mask of a batch, in arrays (no per-object objects)."""
+    flat, starts, heights, widths = batch[:4]
+    filled_flat, coords, ring_starts, areas, sums = measure_batch(flat, starts, heights, widths)
+    corners = min_area_rectangles(coords, ring_starts)
+    xy, l1, l2 = _rectangle_sides(corners)
+    # Thin burrs would stretch the hull: objects wide enough for an opening
+    # (see opening_radius) are measured without what it removes, if that
+    # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
+    wide = [i for i in np.flatnonzero(np.minimum(l1, l2) >= 12).tolist()
+            if opening_radius(min(float(l1[i]), float(l2[i])))]  # fmt: skip
+    core_flat, changed, opened, opened_starts = open_burrs(
+        filled_flat, starts, heights, widths, np.array(wide, dtype=np.int64), coords, ring_starts
+    )
+    if changed.any():
+        counts = np.diff(ring_starts)
+        counts[changed] = np.diff(opened_starts)
+        new_starts = np.zeros_like(ring_starts)
+        np.cumsum(counts, out=new_starts[1:])
+        new = np.empty((int(new_starts[-1]), 2))
+        kept = ~changed
+        put_rings(new, new_starts, np.flatnonzero(kept), *take_rings(coords, ring_starts, kept))
+        put_rings(new, new_starts, np.flatnonzero(changed), opened, opened_starts)
+        coords, ring_starts = new, new_starts
+        corners[changed] = min_area_rectangles(opened, opened_starts)
+        xy[changed], l1[changed], l2[changed] = _rectangle_sides(corners[changed])
+    first = l1 >= l2
+    long_edge = np.where(first[:, None], xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1])
+    # rows grow downwards, so the on-screen angle uses -dy
+    angles = np.remainder(np.degrees(np.arctan2(-long_edge[:, 1], long_edge[:, 0])), 180.0)
+    angles[angles > 180.0 - 1e-9] = 0.0
+    return Measures(
+        batch._replace(filled=filled_flat, core=core_flat),
+        areas,
+        sums,
+        coords,
+        ring_starts,
+        corners,
+        [round(x, 9) for x in np.where(first, l1, l2).tolist()],
+        [round(x, 9) for x in np.where(first, l2, l1).tolist()],
+        [round(x, 6) for x in angles.tolist()],
+    )
+
+
 def measure_many(
     masks: Sequence[np.ndarray], batch: MaskBatch | None = None
 ) -> tuple[list[Geometry], np.ndarray, MaskBatch]:
@@ -219,48 +325,13 @@ def measure_many(
     n = len(masks)
     if batch is None:
         batch = flatten_masks(masks) if n else MaskBatch(*(np.zeros(k, int) for k in (0, 1, 0, 0)))
-    flat, starts, heights, widths = batch[:4]
     if n == 0:
-        return [], np.zeros((0, 2)), batch._replace(filled=flat, core=flat)
-    filled_flat, coords, ring_starts, areas, sums = measure_batch(flat, starts, heights, widths)
-    hulls = polygons_from_rings(coords, ring_starts)
-    corners, rects = rectangles_of_rings(coords, ring_starts)
-    xy, l1, l2 = _rectangle_sides(corners)
-    filled = batch.views(filled_flat)
-    # Thin burrs would stretch the hull: objects wide enough for an opening
-    # (see opening_radius) are measured without what it removes, if that
-    # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
-    wide = [i for i in np.flatnonzero(np.minimum(l1, l2) >= 12).tolist()
-            if opening_radius(min(float(l1[i]), float(l2[i])))]  # fmt: skip
-    core_flat, changed, opened, opened_starts = open_burrs(
-        filled_flat, starts, heights, widths, np.array(wide, dtype=np.int64), coords, ring_starts
-    )
-    cores = filled
-    if changed.any():
-        cores = batch.views(core_flat)
-        hulls[changed] = polygons_from_rings(opened, opened_starts)
-        corners, rects[changed] = rectangles_of_rings(opened, opened_starts)
-        xy[changed], l1[changed], l2[changed] = _rectangle_sides(corners)
-    long_edge = np.where((l1 >= l2)[:, None], xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1])
-    # rows grow downwards, so the on-screen angle uses -dy
-    angles = np.degrees(np.arctan2(-long_edge[:, 1], long_edge[:, 0])).tolist()
-    geoms = []
-    new = object.__new__
-    for mask, f, core, area, hull, rect, a, b, angle in zip(
-        masks, filled, cores, areas.tolist(), hulls, rects, l1.tolist(), l2.tolist(), angles,
-        strict=True,
-    ):  # fmt: skip
-        angle %= 180.0
-        if angle > 180.0 - 1e-9:
-            angle = 0.0
-        long, short = (a, b) if a >= b else (b, a)
-        g = new(Geometry)  # Geometry(mask, f, ...) without its frozen __setattr__ per field
-        g.__dict__.update(
-            {"mask": mask, "filled": f, "core": core, "area": area, "hull": hull, "rect": rect,
-             "length": round(long, 9), "width": round(short, 9), "orientation": round(angle, 6)}
-        )  # fmt: skip
-        geoms.append(g)
-    return geoms, sums, batch._replace(filled=filled_flat, core=core_flat)
+        return [], np.zeros((0, 2)), batch._replace(filled=batch.mask, core=batch.mask)
+    m = measure_batch_arrays(batch)
+    geoms = m.geometries()
+    for g, mask in zip(geoms, masks, strict=True):
+        g.__dict__["mask"] = mask
+    return geoms, m.sums, m.batch
 
 
 def measure(mask: np.ndarray) -> Geometry:
@@ -321,37 +392,54 @@ def _rings_fourier(
     return fourier_features(np.arctan2(cross, dot), n_harmonics, normalize=True)
 
 
+def hull_features(
+    rings: np.ndarray,
+    ring_starts: np.ndarray,
+    length: Sequence[float],
+    width: Sequence[float],
+    pixels: np.ndarray,
+    n_points: int,
+    n_harmonics: int,
+) -> np.ndarray:
+    """The ``"hull"`` group of every object from its hull ring (closed, one after the other)."""
+    # shapely.area, shapely.length and shapely.minimum_bounding_radius, compiled
+    # (GEOS's algorithms and arithmetic: the same bits)
+    area, perimeter, radius = hull_measures(rings, ring_starts)
+    long = np.asarray(length, dtype=float)
+    short = np.asarray(width, dtype=float)
+    scalars = np.stack(
+        [
+            area / (long * short),
+            short / long,
+            4 * np.pi * area / perimeter**2,
+            area / (np.pi * radius**2),
+            1.0 / np.sqrt(np.asarray(pixels, dtype=float)),
+        ],
+        axis=1,
+    )
+    # the rings without their closing vertices
+    keep = np.ones(rings.shape[0], dtype=bool)
+    keep[ring_starts[1:] - 1] = False
+    open_starts = ring_starts - np.arange(ring_starts.size)
+    return np.concatenate(
+        [scalars, _rings_fourier(rings[keep], open_starts, n_points, n_harmonics)], axis=1
+    )
+
+
 def _hull_features(geoms: Sequence[Geometry], n_points: int, n_harmonics: int) -> np.ndarray:
     """The ``"hull"`` group of every object: scalars and hull-outline Fourier features."""
     n = len(geoms)
     hulls = np.empty(n, dtype=object)
     hulls[:] = [g.hull for g in geoms]
-    area = shapely.area(hulls)
-    perimeter = shapely.length(hulls)
     coords, index = shapely.get_coordinates(hulls, return_index=True)
-    last = np.append(index[1:] != index[:-1], True)  # each ring's closing vertex
-    coords, index = coords[~last], index[~last]
-    # shapely.minimum_bounding_radius, compiled (GEOS's algorithm and arithmetic)
-    radius = bounding_radii(coords, np.searchsorted(index, np.arange(n + 1)))
-    length = np.array([g.length for g in geoms])
-    width = np.array([g.width for g in geoms])
-    pixels = np.array([g.area for g in geoms])
-    scalars = np.stack(
-        [
-            area / (length * width),
-            width / length,
-            4 * np.pi * area / perimeter**2,
-            area / (np.pi * radius**2),
-            1.0 / np.sqrt(pixels),
-        ],
-        axis=1,
-    )
-    return np.concatenate(
-        [
-            scalars,
-            _rings_fourier(coords, np.searchsorted(index, np.arange(n + 1)), n_points, n_harmonics),
-        ],
-        axis=1,
+    return hull_features(
+        coords,
+        np.searchsorted(index, np.arange(n + 1)),
+        [g.length for g in geoms],
+        [g.width for g in geoms],
+        np.array([g.area for g in geoms]),
+        n_points,
+        n_harmonics,
     )
 
 
@@ -469,3 +557,14 @@ def features_matrix(
         else:
             raise InputError(f"descriptors must be among {list(DESCRIPTOR_GROUPS)}, got {group!r}")
     return np.concatenate(parts, axis=1)
+
+
+def measures_features(
+    m: Measures, descriptors: Sequence[str], n_points: int, n_harmonics: int
+) -> np.ndarray:
+    """:func:`features_matrix` of the objects of a measured batch."""
+    if tuple(descriptors) == ("hull",):  # from the arrays, no per-object geometry
+        return hull_features(
+            m.rings, m.ring_starts, m.length, m.width, m.area, n_points, n_harmonics
+        )
+    return features_matrix(m.geometries(), descriptors, n_points=n_points, n_harmonics=n_harmonics)

@@ -10,8 +10,8 @@ from scipy import ndimage
 
 from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
-from .defects import DefectSettings, find_defects_many
-from .descriptors import Geometry, MaskBatch, measure_many
+from .defects import DefectSettings, defect_arrays, defect_records
+from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
 from .model import ScannerModel, crop, default_model
 from .records import Defect, Inspection, new_inspection
 
@@ -114,7 +114,9 @@ def _assemble(
         defects.insert(
             0, Defect("broken", 0, bbox, centroid, 0.0, f"object in {n_pieces} separate pieces")
         )
-    return _record(g, label, confidence, bbox, centroid, defects)
+    return _record(
+        label, confidence, bbox, g.area, centroid, g.orientation, g.length, g.width, defects
+    )
 
 
 def _placement(
@@ -127,11 +129,14 @@ def _placement(
 
 
 def _record(
-    g: Geometry,
     label: str | None,
     confidence: float,
     bbox: tuple[int, int, int, int],
+    area: int,
     centroid: tuple[float, float],
+    orientation: float,
+    length: float,
+    width: float,
     defects: list[Defect],
 ) -> Inspection:
     """The inspection record of a measured object; accepted when it has no defect."""
@@ -140,11 +145,11 @@ def _record(
         label,
         round(confidence, 6),
         bbox,
-        g.area,
+        area,
         centroid,
-        g.orientation,
-        g.length,
-        g.width,
+        orientation,
+        length,
+        width,
         len(holes),
         int(sum(d.area for d in holes)),
         tuple(defects),
@@ -169,63 +174,81 @@ def _check_options(
 
 
 def inspect_masks(
-    masks: Sequence[np.ndarray],
-    offsets: Sequence[tuple[int, int]],
+    masks: Sequence[np.ndarray] | None,
+    offsets: Sequence[tuple[int, int]] | np.ndarray,
     model: ScannerModel,
     settings: DefectSettings,
     nominal_size: NominalSize = None,
     size_tolerance: float = 0.1,
-    extents: Sequence[tuple[float, float, float, float] | None] | None = None,
+    extents: Sequence[tuple[float, float, float, float] | None] | np.ndarray | None = None,
     single: bool = False,
     flat: MaskBatch | None = None,
 ) -> list[Inspection]:
     """Inspect validated, cropped object masks in one batch (one classifier call).
 
     Private kernel of :func:`inspect_many` and the line scanner; ``offsets``
-    are the ``(row, col)`` of each mask's top-left pixel, ``extents`` the
-    ``(row0, col0, row1, col1)`` of each grid (or the belt) in the same
-    coordinates as the offsets; ``single`` says each mask is known to be one
-    8-connected piece; ``flat``: the masks already in flat buffers (``masks``
-    are views of it).
+    are the ``(row, col)`` of each mask's top-left pixel (pairs or an
+    ``(n, 2)`` array), ``extents`` the ``(row0, col0, row1, col1)`` of each
+    grid (or the belt) in the same coordinates as the offsets (or an ``(n,
+    4)`` array); ``single`` says each mask is known to be one 8-connected
+    piece; ``flat``: the masks already in flat buffers (``masks`` are views of
+    it, or None: its views).
     """
-    if not masks:
+    n = len(offsets)
+    if not n:
         return []
-    geoms, sums, batch = measure_many(masks, flat)
-    proba = model.predict_features_proba(model.features(geoms))
+    off = np.asarray(offsets, dtype=np.int64).reshape(n, 2)
+    tops, lefts = off[:, 0].tolist(), off[:, 1].tolist()
+    batch = flat if flat is not None else flatten_masks(masks or [])
+    m = measure_batch_arrays(batch)
+    proba = model.predict_features_proba(model._batch_features(m))
     best = np.argmax(proba, axis=1)
     labels = [str(x) for x in model.classes_[best].tolist()]
-    confidence = proba[np.arange(len(masks)), best].tolist()
-    if extents is None:
-        extents = [None] * len(masks)
+    confidence = proba[np.arange(n), best].tolist()
     # the grid (or belt) in each mask's coordinates
-    shifted = [
-        None if e is None else (e[0] - top, e[1] - left, e[2] - top, e[3] - left)
-        for e, (top, left) in zip(extents, offsets, strict=True)
-    ]
-    defects = find_defects_many(geoms, labels, settings, shifted, batch, offsets)
-    centroids = (sums / np.array([g.area for g in geoms])[:, None]).tolist()
+    if isinstance(extents, np.ndarray):
+        ext = extents.astype(float).reshape(n, 4)
+    else:
+        ext = np.array(
+            [(-np.inf, -np.inf, np.inf, np.inf) if e is None else e for e in extents]
+            if extents is not None
+            else [(-np.inf, -np.inf, np.inf, np.inf)] * n,
+            dtype=float,
+        ).reshape(n, 4)
+    ints, floats = defect_arrays(
+        m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2)
+    )
+    found = defect_records(ints, floats, tops, lefts)
     if nominal_size is not None or not single:
+        defects = [found.get(i, []) for i in range(n)]
+        centroids = (m.sums / m.area[:, None]).tolist()
+        geoms = m.geometries()
+        if masks is not None:
+            for g, mask in zip(geoms, masks, strict=True):
+                g.__dict__["mask"] = mask
         return [
             _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
-            for g, d, c, label, p, (top, left) in zip(
-                geoms, defects, centroids, labels, confidence, offsets, strict=True
+            for g, d, c, label, p, top, left in zip(
+                geoms, defects, centroids, labels, confidence, tops, lefts, strict=True
             )
         ]
     # the same records as _assemble gives, built in one pass
     out = []
-    for g, d, (cr, cc), label, p, (top, left), h, w in zip(
-        geoms, defects, centroids, labels, confidence, offsets, batch.heights.tolist(),
-        batch.widths.tolist(), strict=True,
-    ):  # fmt: skip
+    rows = (m.sums[:, 0] / m.area).tolist()
+    cols = (m.sums[:, 1] / m.area).tolist()
+    for i, (cr, cc, label, p, top, left, h, w, area, angle, long, short) in enumerate(zip(
+        rows, cols, labels, confidence, tops, lefts, batch.heights.tolist(),
+        batch.widths.tolist(), m.area.tolist(), m.orientation, m.length, m.width, strict=True,
+    )):  # fmt: skip
         bbox = (top, left, top + h, left + w)
         centroid = (round(cr + top, 6), round(cc + left, 6))
-        if d:
-            out.append(_record(g, label, p, bbox, centroid, d))
+        if i in found:
+            out.append(_record(label, p, bbox, area, centroid, angle, long, short, found[i]))
         else:
             out.append(
                 new_inspection(
-                    label, round(p, 6), bbox, g.area, centroid, g.orientation, g.length,
-                    g.width, 0, 0, (), True, (),
+                    label, round(p, 6), bbox, area, centroid, angle, long, short, 0, 0, (), True,
+                    (),
                 )
             )  # fmt: skip
     return out

@@ -27,7 +27,15 @@ from .._thesis_data import scanner_training_grids
 from .._validation import as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
-from .descriptors import DESCRIPTOR_GROUPS, Geometry, feature_names, features_matrix, measure_many
+from .descriptors import (
+    DESCRIPTOR_GROUPS,
+    Geometry,
+    Measures,
+    feature_names,
+    features_matrix,
+    measure_many,
+    measures_features,
+)
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "ScannerModel", "default_model"]
 
@@ -139,6 +147,11 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         if not geometries:
             return np.empty((0, len(feature_names(desc, n_harmonics))))
         return features_matrix(geometries, desc, n_points=n_points, n_harmonics=n_harmonics)
+
+    def _batch_features(self, measures: Measures) -> np.ndarray:
+        """:meth:`features` of a measured batch (arrays, no per-object geometry)."""
+        desc, n_points, n_harmonics = self._check_params()
+        return measures_features(measures, desc, n_points, n_harmonics)
 
     def transform(self, grids: Any) -> np.ndarray:
         """Descriptors of each grid's object.

@@ -32,6 +32,17 @@ holds several separate pieces) and ``too_tall`` (object
 taller than a :class:`~tentaclass.scanner.LineScanner`'s ``max_height``)."""
 
 
+def _moved(record: Any, drow: int, dcol: int, **changes: Any) -> Any:
+    """``record`` (with ``bbox`` and ``centroid``) moved by ``(drow, dcol)``, and ``changes``."""
+    r0, c0, r1, c1 = record.bbox
+    return replace(
+        record,
+        bbox=(r0 + drow, c0 + dcol, r1 + drow, c1 + dcol),
+        centroid=(record.centroid[0] + drow, record.centroid[1] + dcol),
+        **changes,
+    )
+
+
 @dataclass(frozen=True)
 class Defect:
     """One defect of an object.
@@ -70,12 +81,7 @@ class Defect:
 
     def shifted(self, drow: int, dcol: int) -> Defect:
         """The same defect with its coordinates moved by ``(drow, dcol)``."""
-        r0, c0, r1, c1 = self.bbox
-        return replace(
-            self,
-            bbox=(r0 + drow, c0 + dcol, r1 + drow, c1 + dcol),
-            centroid=(self.centroid[0] + drow, self.centroid[1] + dcol),
-        )
+        return _moved(self, drow, dcol)
 
 
 @dataclass(frozen=True)
@@ -146,13 +152,7 @@ class Inspection:
 
     def shifted(self, drow: int, dcol: int) -> Inspection:
         """The same record with all coordinates moved by ``(drow, dcol)``."""
-        r0, c0, r1, c1 = self.bbox
-        return replace(
-            self,
-            bbox=(r0 + drow, c0 + dcol, r1 + drow, c1 + dcol),
-            centroid=(self.centroid[0] + drow, self.centroid[1] + dcol),
-            defects=tuple(x.shifted(drow, dcol) for x in self.defects),
-        )
+        return _moved(self, drow, dcol, defects=tuple(x.shifted(drow, dcol) for x in self.defects))
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ from .._validation import check_positive_int
 from ..errors import InputError
 from . import _segment as seg
 from .defects import DefectSettings
-from .descriptors import measure
+from .descriptors import MaskBatch, measure
 from .inspection import NominalSize, _check_options, _placement, _record, inspect_masks
 from .model import ScannerModel
 from .records import Defect, Inspection, ScannedObject, new_scanned
@@ -79,7 +79,7 @@ class LineScanner:
     latency : int, default=0
         Rows an object may wait after its last row before it is emitted: rows
         fed in small chunks are staged and run through the kernel
-        ``latency // 2`` at a time, and the objects completed meanwhile are
+        ``latency // 4`` at a time, and the objects completed meanwhile are
         measured and classified in one batch (much cheaper per row and per
         object when rows come one per call). 0: every row is processed when
         fed and an object is emitted in the call that receives the row after
@@ -162,7 +162,7 @@ class LineScanner:
         self.latency = check_positive_int(latency, "latency", minimum=0)
         # with a latency, rows fed one by one are staged and run through the
         # kernel together; objects then wait at most the rest of the latency
-        self._stage_rows = max(1, self.latency // 2)
+        self._stage_rows = max(1, self.latency // 4)
         self._hold = self.latency - self._stage_rows if self.latency else 0
         self._stage: np.ndarray | None = None
         self._n_stage = 0
@@ -174,7 +174,10 @@ class LineScanner:
         self.threshold_: Threshold | None = None
         self._held: list[np.ndarray] = []  # calibration rows
         self._n_held = 0
-        self._held_back: list[tuple] = []  # too-tall records of the newest row
+        # objects output by the kernel, not yet emitted: its output rows (kind, first
+        # row, last row, first column, area, runs start, runs stop) and their runs
+        self._pend = np.zeros((0, seg.N_OUT_FIELDS), dtype=np.int64)
+        self._pend_runs = np.zeros((0, 3), dtype=np.int64)
         self._pools = seg.new_pools(self.width, 256, 4096)
         self._bg = np.zeros(self.width, dtype=np.float64)
         self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
@@ -284,20 +287,18 @@ class LineScanner:
         objects : list of ScannedObject
             Objects whose last row has passed, in id order.
         """
-        fast = self._fast_dtype
         if (
-            fast is not None
-            and type(rows) is np.ndarray
-            and rows.dtype == fast
+            type(rows) is np.ndarray
+            and rows.dtype is self._fast_dtype
             and rows.shape == self._row_shape
             and not self._partial
-            and self._stage is not None
         ):
             # one row of a type that needs no checks, to the stage (a camera's case)
-            self._stage[self._n_stage] = rows
-            self._n_stage += 1
+            k = self._n_stage
+            self._stage[k] = rows  # type: ignore[index]  # (staged rows have a stage)
+            self._n_stage = k = k + 1
             self.rows_seen += 1
-            return self._drain() if self._n_stage == self._stage_rows else []
+            return self._drain() if k == self._stage_rows else []
         if self._closed:
             raise InputError("the scanner is closed: create a new one for a new stream")
         if isinstance(rows, bytes | bytearray | memoryview):
@@ -409,12 +410,7 @@ class LineScanner:
             return []
         out = self._run(self._release()) if self._held else []
         out += self._drain()
-        hold, self._hold = self._hold, 0
-        try:
-            out += self._records([], final=False) if self._held_back else []
-        finally:
-            self._hold = hold
-        return out
+        return out + self._emit(final=False, hold=0)
 
     def close(self) -> list[ScannedObject]:
         """End the stream: emit the objects still open at its last row.
@@ -485,7 +481,6 @@ class LineScanner:
         if mode == 0 and dark:
             arr = (arr == 0).view(np.uint8)
             dark = False
-        found: list[tuple] = []
         start, n = 0, arr.shape[0]
         while True:
             done = seg.scan_rows(
@@ -498,7 +493,7 @@ class LineScanner:
             start += done
             st = p["st"]
             if st[seg.S_NOUT]:
-                found += self._collect(int(st[seg.S_NOUT]))
+                self._keep(int(st[seg.S_NOUT]), int(st[seg.S_NOUT_RUNS]))
                 st[seg.S_NOUT] = 0
                 st[seg.S_NOUT_RUNS] = 0
             elif not final and start < n:
@@ -506,66 +501,80 @@ class LineScanner:
                 p = self._pools
             if final or start >= n:
                 break
-        if not found and (
-            not self._held_back
-            or (
-                not final
-                and self._done_rows - 1 - min(f[0][0] for f in self._held_back) < self._hold
-            )
-        ):
-            return []
-        return self._records(found, final)
+        return self._emit(final, self._hold) if self._pend.shape[0] else []
 
-    def _collect(self, n_out: int) -> list[tuple]:
-        """Masks of the objects the kernel output: (sort key, kind, mask, top, left)."""
+    def _keep(self, n_out: int, n_runs: int) -> None:
+        """Add the objects the kernel output to those pending."""
         p = self._pools
-        out = p["out"][:n_out]
-        flat, starts, heights, widths = seg.paint_all(out, p["out_runs"])
-        items = []
-        for (kind, first, last, minc, _area, _a, _b), a, b, h, w in zip(
-            out.tolist(), starts[:-1].tolist(), starts[1:].tolist(), heights.tolist(),
-            widths.tolist(), strict=True,
-        ):  # fmt: skip
-            items.append(((last, minc, first), kind, flat[a:b].reshape(h, w), first, minc))
-        return items
-
-    def _records(self, found: list[tuple], final: bool) -> list[ScannedObject]:
-        # Too-tall records of the newest row wait for the next row, so that ids
-        # (by last row) never depend on where a chunk ends; with a latency, the
-        # complete objects wait (up to `latency` rows) to be inspected in one batch.
-        found = self._held_back + found
-        newest = self._done_rows - 1
-        if final:
-            self._held_back = []
+        new = p["out"][:n_out].copy()
+        new[:, 5:7] += self._pend_runs.shape[0]
+        if self._pend.shape[0]:
+            self._pend = np.concatenate([self._pend, new])
+            self._pend_runs = np.concatenate([self._pend_runs, p["out_runs"][:n_runs]])
         else:
-            self._held_back = [f for f in found if f[0][0] >= newest]
-            found = [f for f in found if f[0][0] < newest]
-            oldest = min((f[0][0] for f in found), default=newest)
-            if found and newest - oldest < self._hold:
-                self._held_back = found + self._held_back
+            self._pend, self._pend_runs = new, p["out_runs"][:n_runs].copy()
+
+    def _emit(self, final: bool, hold: int) -> list[ScannedObject]:
+        """Records of the pending objects that may go: all at the end of the stream.
+
+        Too-tall objects cut at the newest row wait for the next row, so that ids
+        (by last row) never depend on where a chunk ends; with a latency, the
+        complete objects wait (up to ``hold`` rows) to be inspected in one batch.
+        """
+        pend = self._pend
+        go = np.ones(pend.shape[0], dtype=bool)
+        if not final:
+            newest = self._done_rows - 1
+            go = pend[:, 2] < newest
+            if not go.any() or newest - int(pend[go, 2].min()) < hold:
                 return []
-        found.sort(key=lambda f: f[0])
-        done = [f for f in found if f[1] == 0]
-        # The belt's side edges cut objects; along the belt, only the stream's start does.
-        belt = (0.0, 0.0, np.inf, float(self.width))
-        results = iter(
-            inspect_masks(
-                [f[2] for f in done],
-                [(f[3], f[4]) for f in done],
-                self.model,
-                self.settings,
-                self.nominal_size,
-                self.size_tolerance,
-                [belt] * len(done),
-                single=True,
+        out = pend[go]
+        out = out[np.lexsort((out[:, 1], out[:, 3], out[:, 2]))]  # by last row, column, first
+        runs = self._pend_runs
+        if go.all():
+            self._pend = pend[:0]
+            self._pend_runs = runs[:0]
+        else:
+            self._pend, self._pend_runs = seg.compact_output(pend[~go], runs)
+        whole = out[:, 0] == 0
+        inspections: list[Inspection] = []
+        if whole.any():
+            done = out[whole]
+            batch = MaskBatch(*seg.paint_all(done, runs))
+            # The belt's side edges cut objects; along the belt, only the stream's start does.
+            belt = np.array([0.0, 0.0, np.inf, float(self.width)])
+            inspections = inspect_masks(
+                None, done[:, [1, 3]], self.model, self.settings, self.nominal_size,
+                self.size_tolerance, np.tile(belt, (done.shape[0], 1)), single=True, flat=batch,
+            )  # fmt: skip
+        if not whole.all():
+            cut = out[~whole]
+            flat, starts, heights, widths = seg.paint_all(cut, runs)
+            tall = iter(
+                [
+                    self._too_tall(flat[a:b].reshape(h, w), top, left)
+                    for a, b, h, w, top, left in zip(
+                        starts[:-1].tolist(),
+                        starts[1:].tolist(),
+                        heights.tolist(),
+                        widths.tolist(),
+                        cut[:, 1].tolist(),
+                        cut[:, 3].tolist(),
+                        strict=True,
+                    )
+                ]
             )
-        )
-        out = []
-        for (last, _, first), kind, mask, top, left in found:
-            insp = next(results) if kind == 0 else self._too_tall(mask, top, left)
-            out.append(new_scanned(self.n_emitted, first, last, insp))
-            self.n_emitted += 1
-        return out
+            inspected = iter(inspections)
+            inspections = [next(inspected) if w else next(tall) for w in whole.tolist()]
+        records = []
+        i = self.n_emitted
+        for insp, first, last in zip(
+            inspections, out[:, 1].tolist(), out[:, 2].tolist(), strict=True
+        ):
+            records.append(new_scanned(i, first, last, insp))
+            i += 1
+        self.n_emitted = i
+        return records
 
     def _too_tall(self, mask: np.ndarray, top: int, left: int) -> Inspection:
         """Record of an object cut at ``max_height + 1`` rows (no class, rejected)."""
@@ -576,4 +585,5 @@ class LineScanner:
         bbox, centroid = _placement(mask, top, left)
         note = f"taller than max_height={self.max_height} rows: cut at row {bbox[2] - 1}"
         d = Defect("too_tall", 0, bbox, centroid, 0.0, note)
-        return _record(measure(mask), None, 0.0, bbox, centroid, [d])
+        g = measure(mask)
+        return _record(None, 0.0, bbox, g.area, centroid, g.orientation, g.length, g.width, [d])
