@@ -45,18 +45,23 @@ class CurlController:
     then its joint is driven to curl it towards the object until a contact
     (with the object or the chain) holds it back; the joint is then braked
     where it stands (the hold), after backing off what the soft contact let
-    the link sink in. The joints are stiff position servos (MuJoCo joint
-    equality constraints whose set points the controller moves): the driven
-    joint's set point turns so that the link's tip moves at ``speed`` link
-    lengths per second.
+    the link sink in. The joints are position servos (MuJoCo joint equality
+    constraints whose set points the controller moves): the driven joint's
+    set point turns so that the link's tip moves at ``speed`` link lengths
+    per second. Braked joints hold as hard as MuJoCo allows; the driven one
+    yields to contacts (a low impedance bounds its torque), so it stops at a
+    contact without pushing the link in or bending the braked joints behind
+    it.
 
     Parameters
     ----------
     speed : float, default=5.0
         Tip speed of the curling link, link lengths per second.
     stall_lag : float, default=0.01
-        A driven joint this far (radians) behind its set point while a contact
-        pushes against it (with a lever about the joint) has stopped.
+        A driven joint this far (radians) behind its set point has stopped
+        when a contact pushes against it (with a lever about the joint) or
+        when it turns at less than 5 % of its commanded speed (held by a
+        contact next to the joint).
     max_turn : float, default=2*pi
         A joint that turns further than this (radians) without stopping touches
         nothing: the grasp ends incomplete.
