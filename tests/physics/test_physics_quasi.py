@@ -74,9 +74,9 @@ def test_agrees_with_the_simulated_grasp():
     for outline in (square(4.0), triangle(side=16 / 3)):
         q = quasi_static_grasp(outline, PlanarChain([1.0] * 16), start=0.1)
         g = grasp(outline, PlanarChain([1.0] * 16), start=0.1)
-        assert q.laps == pytest.approx(g.laps, abs=0.02)
+        assert q.laps == pytest.approx(g.laps, abs=0.005)
         dq = np.abs(np.angle(np.exp(1j * (q.angles - g.angles))))
-        assert dq.max() < 0.06
+        assert dq.max() < 0.01
 
 
 def test_simulated_chain_on_a_lobed_object_rests_where_the_quasi_static_one_does():
