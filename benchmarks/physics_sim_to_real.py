@@ -202,32 +202,46 @@ def _training_sets(hug, quasi):
 
 
 # ---------------------------------------------------------------------- MPEG-7
-def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links=64):
-    outlines, labels, _ = shapes.load_mpeg7(folder, max_vertices=1000)
-    labels = np.asarray(labels)
+def mpeg7_split(labels, per_class, seed=0):
+    """Indices of the held-out test silhouettes (``per_class`` per class) and of the others."""
     rng = np.random.default_rng(seed)
     test_idx = np.sort(np.concatenate([
         rng.choice(np.flatnonzero(labels == c), per_class, replace=False) for c in np.unique(labels)
     ]))  # fmt: skip
-    train_idx = np.setdiff1d(np.arange(len(labels)), test_idx)
+    return test_idx, np.setdiff1d(np.arange(len(labels)), test_idx)
 
-    def objects():  # the draws follow the choice of the test silhouettes from the same seed
-        m = len(test_idx)
-        r = np.random.default_rng(seed)
-        for c in np.unique(labels):
-            r.choice(np.flatnonzero(labels == c), per_class, replace=False)
-        target = r.uniform(1.2, 2.0, m)
-        theta = r.uniform(0, 2 * np.pi, m)
-        starts = r.uniform(0, 1, m)
-        dirs = np.where(r.random(m) < 0.5, "ccw", "cw")
-        objs = []
-        for i, t, th, s, d in zip(test_idx, target, theta, starts, dirs, strict=True):
-            o = _placed(outlines[i], th, n_links / t)
-            w = wrap(o, n_links, 1.0, start=s, direction=d, mode="hug")  # rescale once by laps made
-            if w.complete and np.isfinite(w.laps) and w.laps > 0.05:
-                o = o * w.laps / t
-            objs.append(o)
-        return objs, starts, dirs, target
+
+def mpeg7_test_objects(outlines, labels, per_class, seed=0, n_links=64):
+    """The held-out test objects, placed: (indices, objects, starts, directions, target laps).
+
+    The draws follow the choice of the test silhouettes from the same seed.
+    """
+    test_idx, _ = mpeg7_split(labels, per_class, seed)
+    m = len(test_idx)
+    r = np.random.default_rng(seed)
+    for c in np.unique(labels):
+        r.choice(np.flatnonzero(labels == c), per_class, replace=False)
+    target = r.uniform(1.2, 2.0, m)
+    theta = r.uniform(0, 2 * np.pi, m)
+    starts = r.uniform(0, 1, m)
+    dirs = np.where(r.random(m) < 0.5, "ccw", "cw")
+    objs = []
+    for i, t, th, s, d in zip(test_idx, target, theta, starts, dirs, strict=True):
+        o = _placed(outlines[i], th, n_links / t)
+        w = wrap(o, n_links, 1.0, start=s, direction=d, mode="hug")  # rescale once by laps made
+        if w.complete and np.isfinite(w.laps) and w.laps > 0.05:
+            o = o * w.laps / t
+        objs.append(o)
+    return test_idx, objs, starts, dirs, target
+
+
+def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links=64):
+    outlines, labels, _ = shapes.load_mpeg7(folder, max_vertices=1000)
+    labels = np.asarray(labels)
+    test_idx, train_idx = mpeg7_split(labels, per_class, seed)
+
+    def objects():
+        return mpeg7_test_objects(outlines, labels, per_class, seed, n_links)[1:]
 
     def make_test():
         objs, starts, dirs, target = objects()

@@ -74,9 +74,28 @@ def test_agrees_with_the_simulated_grasp():
     for outline in (square(4.0), triangle(side=16 / 3)):
         q = quasi_static_grasp(outline, PlanarChain([1.0] * 16), start=0.1)
         g = grasp(outline, PlanarChain([1.0] * 16), start=0.1)
-        assert q.laps == pytest.approx(g.laps, abs=0.02)
+        assert q.laps == pytest.approx(g.laps, abs=0.005)
         dq = np.abs(np.angle(np.exp(1j * (q.angles - g.angles))))
-        assert dq.max() < 0.06
+        assert dq.max() < 0.01
+
+
+def test_simulated_chain_on_a_lobed_object_rests_where_the_quasi_static_one_does():
+    # 40 links, one and a half laps round a five-lobed flower: the braked joints must not
+    # give way while the later links are driven onto them (a servo pressing as hard as the
+    # brakes bent every joint behind it by hundredths of a radian: the chain unwound)
+    pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
+    from tentaclass.physics import grasp
+
+    th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    rad = 3.0 * (1 + 0.15 * np.sin(5 * th))
+    flower = polygon(np.c_[rad * np.cos(th), rad * np.sin(th)])
+    chain = PlanarChain([1.0] * 40)
+    g = grasp(flower, chain, start=0.3)
+    q = quasi_static_grasp(flower, chain, start=0.3)
+    assert g.complete and q.complete, g.reason
+    assert g.laps == pytest.approx(q.laps, abs=0.02) and 1.4 < q.laps < 1.7
+    dq = np.abs(np.angle(np.exp(1j * (q.angles - g.angles))))
+    assert np.median(dq) < 0.02
 
 
 def test_unreachable_is_flagged_and_bad_input_raises():

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -11,6 +12,7 @@ import shapely
 from .._typing import FloatArray
 from ..manipulator import PlanarChain
 from ._model import _mujoco, build_model
+from ._sweep import LEVER, SLACK, free_turn, room_about
 
 __all__ = ["CurlController"]
 
@@ -22,10 +24,13 @@ STOWED_MASS = 1e-6
 #: set point runs ahead: a stall) instead of being pushed through.
 BRAKE_STEPS = 2
 DRIVE_STEPS = 10
-#: Contacts on a link nearer its joint than this fraction of its length do not stop the joint.
-_CAP = 0.1
-#: A link's axis keeps this fraction of its radius from the object.
-_SLACK = 0.98
+#: Impedance (MuJoCo ``solimp``) of the joint servos: a braked joint holds as
+#: hard as MuJoCo allows; the driven joint yields (its constraint force, what
+#: the servo's torque is, stays a fraction of a contact's for the same error),
+#: so a contact stops it without being pushed in and without the braked joints
+#: behind it giving way.
+BRAKE_IMPEDANCE = (0.9999, 0.9999, 0.001, 0.5, 2.0)
+DRIVE_IMPEDANCE = (0.5, 0.5, 0.001, 0.5, 2.0)
 #: Largest turn back that lifts a link out of the object (radians).
 _MAX_UNSINK = 0.6
 
@@ -40,18 +45,23 @@ class CurlController:
     then its joint is driven to curl it towards the object until a contact
     (with the object or the chain) holds it back; the joint is then braked
     where it stands (the hold), after backing off what the soft contact let
-    the link sink in. The joints are stiff position servos (MuJoCo joint
-    equality constraints whose set points the controller moves): the driven
-    joint's set point turns so that the link's tip moves at ``speed`` link
-    lengths per second.
+    the link sink in. The joints are position servos (MuJoCo joint equality
+    constraints whose set points the controller moves): the driven joint's
+    set point turns so that the link's tip moves at ``speed`` link lengths
+    per second. Braked joints hold as hard as MuJoCo allows; the driven one
+    yields to contacts (a low impedance bounds its torque), so it stops at a
+    contact without pushing the link in or bending the braked joints behind
+    it.
 
     Parameters
     ----------
-    speed : float, default=20.0
+    speed : float, default=5.0
         Tip speed of the curling link, link lengths per second.
     stall_lag : float, default=0.01
-        A driven joint this far (radians) behind its set point while a contact
-        pushes against it (with a lever about the joint) has stopped.
+        A driven joint this far (radians) behind its set point has stopped
+        when a contact pushes against it (with a lever about the joint) or
+        when it turns at less than 5 % of its commanded speed (held by a
+        contact next to the joint).
     max_turn : float, default=2*pi
         A joint that turns further than this (radians) without stopping touches
         nothing: the grasp ends incomplete.
@@ -67,9 +77,12 @@ class CurlController:
     damping : float, default=2.0
         Joint damping (N m s) during the squeeze.
     rest_speed : float, default=1e-3
-        The chain is at rest once every joint turns slower than this (radians
-        per second) for ``rest_time``.
-    rest_time : float, default=0.05
+        The chain is at rest once no joint angle has ranged over more than
+        ``rest_speed * rest_time`` (radians) during the last ``rest_time``:
+        it turns slower than this on average (radians per second). The soft
+        contacts chatter about a fixed pose at up to a few hundredths of a
+        radian per second, a fraction of a milliradian; that is rest.
+    rest_time : float, default=0.2
         Seconds.
     settle_time : float, default=10.0
         Seconds allowed for coming to rest during the squeeze.
@@ -77,13 +90,13 @@ class CurlController:
         Simulation steps between two looks of the controller.
     """
 
-    speed: float = 20.0
+    speed: float = 5.0
     stall_lag: float = 0.01
     max_turn: float = 2 * np.pi
     torque: float = 0.0
     damping: float = 2.0
     rest_speed: float = 1e-3
-    rest_time: float = 0.05
+    rest_time: float = 0.2
     settle_time: float = 10.0
     control_steps: int = 5
 
@@ -140,42 +153,23 @@ class _Sim:
         self.m.eq_data[e, 0] = target
         dt = self.m.opt.timestep
         self.m.eq_solref[e] = (dt * (DRIVE_STEPS if drive else BRAKE_STEPS), 1.0)
+        self.m.eq_solimp[e] = DRIVE_IMPEDANCE if drive else BRAKE_IMPEDANCE
         self.d.eq_active[e] = True
 
     def _clear(self, k: int) -> float | None:
         """Joint ``k``'s angle after the smallest clockwise turn that leaves link ``k`` free.
 
-        Where no direction is quite free (a joint wedged in a groove), the
-        roomiest one if the link sinks in by less than half its thickness;
-        otherwise None.
+        The quasi-static grasp's rule (:func:`free_turn`): where no direction
+        is quite free (a joint wedged in a groove), the roomiest one if the
+        link sinks in by less than half its thickness; otherwise None.
         """
-        p = self.d.xanchor[k, :2].copy()
+        j = self.joints()
         rot = self.d.xmat[self.bodies[k]]
         phi = float(np.arctan2(rot[3], rot[0]))
-        ln, r = float(self.chain.link_lengths[k]), self.r
-        j = self.joints()
-        placed = [shapely.LineString(j[i : i + 2]) for i in range(self.first, k - 1)]
-        others = shapely.MultiLineString(placed) if placed else None
-        q_k = float(self.d.qpos[k])
-        # the joint may already sit a little deep in a contact: the link must not go deeper
-        pt = shapely.Point(p)
-        need_obj = min(0.98 * r, shapely.distance(pt, self.poly)) - 1e-6
-        need_self = 1.96 * r if others is None else min(1.96 * r, shapely.distance(pt, others))
-        best, best_turn = -np.inf, None
-        for turn in np.arange(0.0, 2 * np.pi - 0.1, 0.02):
-            a = phi - turn
-            seg = shapely.LineString([p, p + ln * np.array([np.cos(a), np.sin(a)])])
-            room = shapely.distance(seg, self.poly) - need_obj
-            if others is not None:
-                room = min(room, shapely.distance(seg, others) - need_self + 1e-6)
-            if room >= 0:
-                return q_k - float(turn)
-            if room > best:
-                best, best_turn = room, turn
-        # wedged in: take the roomiest direction if the link is at most a little deep
-        if best_turn is not None and best > -0.5 * r:
-            return q_k - float(best_turn)
-        return None
+        placed = np.stack([j[self.first : k - 1], j[self.first + 1 : k]], axis=1)
+        f = room_about(j[k], float(self.chain.link_lengths[k]), self.poly, placed, self.r)
+        a = free_turn(f, phi, self.r)
+        return None if a is None else float(self.d.qpos[k]) + (a - phi)
 
     def _levers(self, k: int) -> Iterator[tuple[float, float]]:
         """Depth and lever about joint ``k`` of each contact that can stop it."""
@@ -187,7 +181,7 @@ class _Sim:
                 continue
             rel, normal = c.pos[:2] - anchor, c.frame[:2]
             arm = abs(float(rel[0] * normal[1] - rel[1] * normal[0]))  # lever of the normal
-            if arm > _CAP:  # contacts on the joint's own cap do not stop its turn
+            if arm > LEVER:  # contacts on the joint's own cap do not stop its turn
                 yield -c.dist, arm
 
     def _blocked(self, k: int) -> bool:
@@ -199,17 +193,17 @@ class _Sim:
         MuJoCo gives one contact point per capsule and convex piece, at the
         deepest point: a joint resting next to a corner of the object hides
         a contact further along its link, which then turns through the
-        object. The geometry tells: the link's axis beyond ``_CAP`` of its
-        length must keep its clearance (``_SLACK`` of the radius, or the
+        object. The geometry tells: the link's axis beyond ``LEVER`` of its
+        length must keep its clearance (``SLACK`` of the radius, or the
         joint's own if that is less) from the object.
         """
         j = self.joints()
         p, tip = j[k], j[k + 1]
-        need = min(_SLACK * self.r, float(shapely.distance(shapely.Point(p), self.poly)))
+        need = min(SLACK * self.r, float(shapely.distance(shapely.Point(p), self.poly)))
         a = float(np.arctan2(*(tip - p)[::-1])) - turn
         u = np.array([np.cos(a), np.sin(a)])
         ln = float(self.chain.link_lengths[k])
-        seg = shapely.LineString([p + _CAP * ln * u, p + ln * u])
+        seg = shapely.LineString([p + LEVER * ln * u, p + ln * u])
         return float(need - shapely.distance(seg, self.poly))
 
     def _unsink(self, k: int) -> float:
@@ -269,6 +263,7 @@ class _Sim:
                 self._lock(k, q_free)
                 self.mj.mj_forward(self.m, self.d)
             q_start, t_k = float(self.d.qpos[k]), 0.0
+            q_last = q_start
             target = q_start
             t_max = 2 * c.max_turn / self.omega[k] + 1.0
             while True:
@@ -288,6 +283,11 @@ class _Sim:
                 lag = target - self.d.qpos[k]
                 if lag > c.stall_lag and self._blocked(k):
                     break
+                # held back by something near the joint: it hardly turns any more
+                turned, q_last = float(self.d.qpos[k]) - q_last, float(self.d.qpos[k])
+                slow = turned < 0.05 * self.omega[k] * period
+                if lag > c.stall_lag and t_k > 3 * period and slow:
+                    break
                 if self._sunk(k) > 0.5 * self.r:  # a contact MuJoCo did not report
                     break
             back = self._back_off(k)
@@ -301,17 +301,21 @@ class _Sim:
             self.d.eq_active[self.cm.lock_ids[k]] = False
             self.m.dof_damping[k] = c.damping
             self.d.ctrl[k] = c.torque * (self.n - k)
-        t_settle, still = 0.0, 0
-        while still < need:
+        t_settle = 0.0
+        window: deque[FloatArray] = deque(maxlen=need + 1)  # the angles over the last rest_time
+        while True:
             steps = self._look(steps)
             t_settle += period
             if not np.all(np.isfinite(self.d.qpos)):
                 return "the simulation diverged while settling", steps
-            still = still + 1 if np.max(np.abs(self.d.qvel)) < c.rest_speed else 0
+            window.append(self.d.qpos.copy())
+            moved = float(np.ptp(np.array(window), axis=0).max())
+            if len(window) == window.maxlen and moved <= c.rest_speed * c.rest_time:
+                break
             if t_settle > c.settle_time or self.d.time > time_limit:
                 return (
-                    f"the chain did not come to rest within {c.settle_time:g} s "
-                    f"(joint speeds up to {np.max(np.abs(self.d.qvel)):.3g} rad/s)"
+                    f"the chain did not come to rest within {c.settle_time:g} s (a joint "
+                    f"still turned {moved:.3g} rad in {c.rest_time:g} s)"
                 ), steps
         return reason, steps
 

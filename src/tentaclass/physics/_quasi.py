@@ -3,63 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
-import shapely
 
 from .._typing import ArrayLike
 from ..manipulator import PlanarChain
 from ._grasp import PhysicalGrasp, _prepare
+from ._sweep import edge, first, free_turn, room_about
 
 __all__ = ["quasi_static_grasp"]
-
-#: Coarse angular step of the swing search (radians); contacts are then refined by bisection.
-_STEP = 0.02
-#: Bisection steps refining a contact angle (0.02 / 2**12: about 5e-6 rad).
-_REFINE = 12
-#: Contacts nearer the joint than this (link lengths) do not stop its turn, as in the controller.
-_LEVER = 0.1
-#: Sweep steps evaluated at once.
-_CHUNK = 24
-#: Clearances as fractions of the ideal ones, as the controller's free test uses.
-_SLACK = 0.98
-
-
-def _room(pivot, angles, length, poly, others, need_obj, need_self):
-    """Clearance of the link from ``pivot`` at each angle (>= 0: free), vectorised."""
-    u = np.stack([np.cos(angles), np.sin(angles)], axis=1)
-    segs = shapely.linestrings(np.stack([pivot + _LEVER * u, pivot + length * u], axis=1))
-    room = np.full(len(angles), np.inf)
-    if poly is not None:
-        room = shapely.distance(segs, poly) - need_obj
-    if others is not None:
-        room = np.minimum(room, shapely.distance(segs, others) - need_self)
-    return room
-
-
-def _edge(f, lo, hi):
-    """Bisect between a free angle ``lo`` and a blocked angle ``hi``; the last free one."""
-    for _ in range(_REFINE):
-        mid = 0.5 * (lo + hi)
-        if f(np.array([mid]))[0] >= 0:
-            lo = mid
-        else:
-            hi = mid
-    return lo
-
-
-def _first(f, phi, sign, want):
-    """The first sweep step from ``phi`` (turning ``sign``) where ``f >= 0`` is ``want``.
-
-    Returns its index (None when no step is), the sweep's angles and the rooms seen.
-    """
-    turns = np.arange(0.0, 2 * np.pi, _STEP)
-    rooms = []
-    for lo in range(0, len(turns), _CHUNK):
-        room = f(phi + sign * turns[lo : lo + _CHUNK])
-        rooms.append(room)
-        hit = np.flatnonzero((room >= 0) == want)
-        if hit.size:
-            return lo + int(hit[0]), phi + sign * turns, np.concatenate(rooms)
-    return None, phi + sign * turns, np.concatenate(rooms)
 
 
 def _swing(pivot, phi, length, poly, segments, r):
@@ -68,44 +18,19 @@ def _swing(pivot, phi, length, poly, segments, r):
     As :class:`CurlController` deploys it: turned clockwise (away from the
     object) just enough to be free, then curled counter-clockwise until it
     touches the object ``poly`` or an earlier link (``segments``, (m, 2, 2)).
-    Only what the link can reach is looked at. Returns (angle, reason);
-    reason is "" on success.
+    Returns (angle, reason); reason is "" on success.
     """
-    reach = length + 2 * r + 1e-3
-    x, y = pivot
-    local = shapely.clip_by_rect(poly, x - reach, y - reach, x + reach, y + reach)
-    local = None if local.is_empty else local
-    others = None
-    if len(segments):
-        a, b = segments[:, 0], segments[:, 1]
-        ab = b - a
-        t = np.clip(np.sum((pivot - a) * ab, axis=1) / np.maximum(np.sum(ab * ab, axis=1), 1e-12),
-                    0.0, 1.0)  # fmt: skip
-        near = np.hypot(*(a + t[:, None] * ab - pivot).T) <= reach
-        if near.any():
-            others = shapely.multilinestrings(list(segments[near]))
-    pt = shapely.Point(pivot)
-    need_obj = 0.0 if local is None else min(_SLACK * r, float(shapely.distance(pt, local))) - 1e-6
-    need_self = 0.0
-    if others is not None:
-        need_self = min(2 * _SLACK * r, float(shapely.distance(pt, others))) - 1e-6
-
-    def f(angles):
-        return _room(pivot, angles, length, local, others, need_obj, need_self)
-
+    f = room_about(pivot, length, poly, segments, r)
     if f(np.array([phi]))[0] >= 0:  # free: curl counter-clockwise until the first contact
-        k, angles, _ = _first(f, phi, 1.0, False)
+        k, angles, _ = first(f, phi, 1.0, False)
         if k is None:
             return phi, "turned a full turn touching nothing (the chain cannot reach the object)"
-        return _edge(f, angles[k - 1], angles[k]), ""
+        return edge(f, float(angles[k - 1]), float(angles[k])), ""
     # blocked straight on: the smallest clockwise turn that frees it, where it then touches
-    k, angles, rooms = _first(f, phi, -1.0, True)
-    if k is None:
-        best = int(np.argmax(rooms))
-        if rooms[best] > -0.5 * r:  # wedged, but sinking in by less than half its thickness
-            return float(angles[best]), ""
+    a = free_turn(f, phi, r)
+    if a is None:
         return phi, "no room to deploy it (the chain is jammed)"
-    return _edge(f, angles[k], angles[k - 1]), ""
+    return a, ""
 
 
 def quasi_static_grasp(
