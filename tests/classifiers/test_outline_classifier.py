@@ -21,9 +21,14 @@ def _lobes(n_per_class=6, n=64, seed=0):
     return np.array(X), np.array(y)
 
 
-def test_recognises_shifted_and_mirrored_series():
-    X, y = _lobes()
-    clf = OutlineClassifier(random_state=0).fit(X, y)
+@pytest.fixture(scope="module")
+def lobes_model():
+    """``OutlineClassifier(random_state=0)`` fitted on ``_lobes()``, shared (do not refit it)."""
+    return OutlineClassifier(random_state=0).fit(*_lobes())
+
+
+def test_recognises_shifted_and_mirrored_series(lobes_model):
+    clf = lobes_model
     Xq, yq = _lobes(seed=1)
     Xq = np.array([np.roll(x, 11 * i)[:: (-1) ** i] for i, x in enumerate(Xq)])
     assert np.mean(clf.predict(Xq) == yq) >= 0.95
@@ -33,11 +38,10 @@ def test_recognises_shifted_and_mirrored_series():
     assert abs(sum(clf.weights_.values()) - 1) < 1e-12
 
 
-def test_same_seed_same_model():
+def test_same_seed_same_model(lobes_model):
     X, y = _lobes()
-    a = OutlineClassifier(random_state=3).fit(X, y).predict_proba(X)
-    b = OutlineClassifier(random_state=3).fit(X, y).predict_proba(X)
-    np.testing.assert_array_equal(a, b)
+    again = OutlineClassifier(random_state=0).fit(X, y)
+    np.testing.assert_array_equal(again.predict_proba(X), lobes_model.predict_proba(X))
 
 
 @pytest.mark.parametrize(
@@ -53,11 +57,10 @@ def test_bad_input(X, y, match):
         OutlineClassifier().fit(X, y)
 
 
-def test_query_of_another_length_is_refused():
-    X, y = _lobes()
-    clf = OutlineClassifier(random_state=0).fit(X, y)
+def test_query_of_another_length_is_refused(lobes_model):
+    X, _ = _lobes()
     with pytest.raises(ValueError, match="features"):
-        clf.predict(X[:, :32])
+        lobes_model.predict(X[:, :32])
 
 
 # published best accuracy on the official split (MultiRocket+Hydra, HIVE-COTE 2, ...)

@@ -1,5 +1,6 @@
 """The light reader predicts exactly as the full load, without scikit-learn."""
 
+import copy
 import subprocess
 import sys
 import warnings
@@ -59,20 +60,13 @@ def test_every_bundled_model_predicts_alike(n_links):
 
 
 @pytest.fixture(scope="module")
-def wraps16():
-    d = synthetic_tentacle(120, 16, noise=(0.0, 0.02), random_state=0)
-    ok = np.isfinite(d.data).all(axis=1)
-    return d.data[ok], d.target[ok]
-
-
-@pytest.fixture(scope="module")
-def default_models(wraps16):
+def default_models(wraps16, default_recognisers):
     X, y = wraps16
     small = TentacleClassifier().fit(*thesis_tentacle(16, return_X_y=True))
-    rejecting = TentacleClassifier(reject=0.05).fit(X, y)
+    rejecting = default_recognisers["reject"]
     assert rejecting.spectrum_ is not None
     # every member in the blend, whatever weights the calibration chose
-    blended = TentacleClassifier().fit(X, y)
+    blended = copy.deepcopy(default_recognisers["default"])
     # (the elastic member's descriptors are kept only where its weight was not 0)
     blended.weights_ = np.array([1.0, 0.5, 1.0, 1.0 if len(blended.elastic_heights_) else 0.0])
     two = np.isin(y, ["circle", "square"])

@@ -79,21 +79,17 @@ def test_round_trip_predicts_exactly_alike(tmp_path, data, name):
     assert loaded.get_params(deep=False).keys() == model.get_params(deep=False).keys()
 
 
-def test_default_recogniser_round_trips(tmp_path):
+def test_default_recogniser_round_trips(tmp_path, default_recognisers):
     """The default TentacleClassifier, saved without knowing its internals."""
     from tentaclass.datasets import synthetic_tentacle
 
-    d = synthetic_tentacle(160, 16, noise=(0.0, 0.02), random_state=0)
-    ok = np.isfinite(d.data).all(axis=1)  # failed wraps come back as NaN rows
-    X, y = d.data[ok], d.target[ok]
-    model = TentacleClassifier().fit(X, y)
+    model, rejecting = default_recognisers["default"], default_recognisers["reject"]
     t = synthetic_tentacle(40, 16, laps=(0.5, 2.5), noise=(0.0, 0.02), random_state=1)
     T = t.data[np.isfinite(t.data).all(axis=1)]
     loaded = load_model(save_model(model, tmp_path / "default.tcm"))
     assert type(loaded) is TentacleClassifier
     np.testing.assert_array_equal(loaded.predict_proba(T), model.predict_proba(T))
     np.testing.assert_array_equal(loaded.predict(T), model.predict(T))
-    rejecting = TentacleClassifier(reject=0.05).fit(X, y)
     again = load_model(save_model(rejecting, tmp_path / "reject.tcm"))
     np.testing.assert_array_equal(again.predict(T), rejecting.predict(T))
 
