@@ -96,6 +96,110 @@ def mpeg7(out: Path, ns, modes, noises, folds: int = 10, copies: int = 10, hug_c
                           "(gap < 0.5 link)", out, stem)  # fmt: skip
 
 
+#: Classes held out of training in the open-set setting (drawn once at random, seed 7).
+UNSEEN = ("HCircle", "car", "chopper", "elephant", "face", "fountain", "key", "pencil", "pocket",
+          "spring")  # fmt: skip
+
+
+def _fixed_chain_folds(d, folds: int, n_folds: int = 10):
+    """The first ``folds`` of the 10 stratified folds of ``tentaclass bench`` (seed 0)."""
+    from sklearn.model_selection import StratifiedKFold
+
+    skf = StratifiedKFold(n_splits=n_folds, shuffle=True, random_state=0)
+    return list(skf.split(d.data, d.target))[:folds]
+
+
+def open_set(out: Path, folds: int = 10, rate: float = 0.05, noise: float = 0.0) -> str:
+    """Fixed-chain hug wraps, trained on 60 classes, shown all 70 (``UNSEEN`` never trained).
+
+    ``TentacleClassifier(reject=rate)``; failed wraps never train and count
+    as not rejected (unseen) or falsely rejected (known).
+    """
+    from tentaclass import TentacleClassifier
+
+    d = mpeg7_tentacle(MPEG7, 64, "hug", protocol="fixed-chain", laps=(1.2, 2.0),
+                       offset=(0.0, 2.0), noise=noise, random_state=0, progress=True)  # fmt: skip
+    unseen = np.isin(d.target, UNSEEN)
+    caught, refused, right, fit_s, pred_s = [], [], [], 0.0, 0.0
+    for i, (tr, te) in enumerate(_fixed_chain_folds(d, folds)):
+        tr = tr[~unseen[tr] & d.complete[tr]]
+        t0 = time.perf_counter()
+        clf = TentacleClassifier(reject=rate).fit(d.data[tr], d.target[tr], groups=d.groups[tr])
+        t1 = time.perf_counter()
+        pred = np.full(len(te), "failed", dtype=object)
+        ok = d.complete[te]
+        pred[ok] = clf.predict(d.data[te][ok])
+        pred_s += time.perf_counter() - t1
+        fit_s += t1 - t0
+        u = unseen[te]
+        caught.append(pred[u] == "unknown")
+        refused.append(np.isin(pred[~u], ["unknown", "failed"]))
+        right.append(pred[~u] == d.target[te][~u])
+        print(f"fold {i}: unseen rejected {np.mean(caught[-1]):.3f}, known rejected "
+              f"{np.mean(refused[-1]):.3f}", flush=True)  # fmt: skip
+    c, r, known_rejected = (np.concatenate(a) for a in (caught, right, refused))
+    table = (
+        f"### Open set: hug, noise {noise:g}, reject={rate:g}, {folds} of 10 folds\n\n"
+        "| unseen objects rejected | known objects rejected (or failed) | known objects right "
+        "| fit / predict, all folds |\n|---|---|---|---|\n"
+        f"| {c.mean():.1%} ({c.sum()} / {c.size}) | {known_rejected.mean():.1%} "
+        f"({known_rejected.sum()} / {known_rejected.size}) | {r.mean():.1%} "
+        f"| {fit_s:.0f} s / {pred_s:.0f} s |\n"
+    )
+    return _write(out, f"open-set-hug-noise{noise:g}", table)
+
+
+def partial(out: Path, folds: int = 10, noise: float = 0.0) -> str:
+    """Trained on 1.2-2 lap hug wraps, tested on partial wraps (0.5-0.95 laps) of other objects.
+
+    Top-1 and top-3 of ``predict_proba`` over all wraps (failed ones count as
+    misses), how many are reported partial by ``grasp`` and their mean confidence.
+    """
+    from tentaclass import TentacleClassifier
+
+    kw = {"protocol": "fixed-chain", "offset": (0.0, 2.0), "noise": noise, "random_state": 0,
+          "progress": True}  # fmt: skip
+    d = mpeg7_tentacle(MPEG7, 64, "hug", laps=(1.2, 2.0), **kw)
+    p = mpeg7_tentacle(MPEG7, 64, "hug", laps=(0.5, 0.95), **kw)
+    top1, top3, state, conf, fit_s, pred_s = [], [], [], [], 0.0, 0.0
+    for i, (tr, te) in enumerate(_fixed_chain_folds(d, folds)):
+        tr = tr[d.complete[tr]]
+        t0 = time.perf_counter()
+        clf = TentacleClassifier().fit(d.data[tr], d.target[tr], groups=d.groups[tr])
+        t1 = time.perf_counter()
+        ok = te[p.complete[te]]
+        proba = clf.predict_proba(p.data[ok])
+        g = clf.grasp(p.data[ok])
+        pred_s += time.perf_counter() - t1
+        fit_s += t1 - t0
+        order = clf.classes_[np.argsort(-proba, axis=1)[:, :3]]
+        hit3 = np.zeros(len(te), bool)
+        hit1 = np.zeros(len(te), bool)
+        hit3[p.complete[te]] = (order == p.target[ok][:, None]).any(axis=1)
+        hit1[p.complete[te]] = order[:, 0] == p.target[ok]
+        top1.append(hit1)
+        top3.append(hit3)
+        state.append(g["state"])
+        conf.append(g["probability"])
+        print(f"fold {i}: top 3 {hit3.mean():.3f}, top 1 {hit1.mean():.3f}", flush=True)
+    t1, t3, st, cf = (np.concatenate(a) for a in (top1, top3, state, conf))
+    table = (
+        f"### Partial wraps (0.5-0.95 laps asked), hug, noise {noise:g}, {folds} of 10 folds\n\n"
+        "| top 3 | top 1 | reported partial | mean top probability | fit / predict, all folds "
+        "|\n|---|---|---|---|---|\n"
+        f"| {t3.mean():.1%} ({t3.sum()} / {t3.size}) | {t1.mean():.1%} "
+        f"| {np.mean(st == 'partial'):.1%} | {cf.mean():.2f} | {fit_s:.0f} s / {pred_s:.0f} s |\n"
+    )
+    return _write(out, f"partial-hug-noise{noise:g}", table)
+
+
+def _write(out: Path, stem: str, table: str) -> str:
+    print(table, flush=True)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"{stem}.md").write_text(table)
+    return table
+
+
 def ucr(out: Path) -> None:
     """ArrowHead and OSULeaf with their official splits."""
     for name in ("ArrowHead", "OSULeaf"):
@@ -124,7 +228,9 @@ def main(quick: bool = False, out: Path = Path("bench-results")) -> None:
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--only", choices=["synthetic", "mpeg7", "ucr"])
+    parser.add_argument("--only", choices=["synthetic", "mpeg7", "ucr", "open-set", "partial"])
+    parser.add_argument("--folds", type=int, default=10, help="open set / partial: folds run")
+    parser.add_argument("--reject", type=float, default=0.05, help="open set: reject= rate")
     parser.add_argument("--links", default="16,32,64,128")
     parser.add_argument("--modes", default="taut,hug")
     parser.add_argument("--noises", default="0,0.05")
@@ -141,5 +247,9 @@ if __name__ == "__main__":
         synthetic(a.out)
     elif a.only == "ucr":
         ucr(a.out)
+    elif a.only == "open-set":
+        open_set(a.out, a.folds, a.reject)
+    elif a.only == "partial":
+        partial(a.out, a.folds)
     else:
         main(a.quick, a.out)

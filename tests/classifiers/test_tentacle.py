@@ -107,12 +107,12 @@ def test_unknown_class_is_rejected():
     d_ok, t_ok = d.laps < 2.4, t.laps < 2.4
     known = d_ok & (d.target != "triangle")
     clf = TentacleClassifier(reject=True).fit(d.data[known], d.target[known])
-    assert clf.reject_distance_ < np.inf
+    assert clf.reject_threshold_ < np.inf
     pred = clf.predict(t.data[t_ok])
     tri = t.target[t_ok] == "triangle"
     assert np.mean(pred[tri] == "unknown") > 0.75
     assert np.mean(pred[~tri] == "unknown") < 0.12
-    assert TentacleClassifier().fit(d.data[known], d.target[known]).reject_distance_ == np.inf
+    assert TentacleClassifier().fit(d.data[known], d.target[known]).reject_threshold_ == np.inf
 
 
 @pytest.mark.parametrize(
@@ -168,3 +168,55 @@ def test_longer_wraps_give_one_lap_views():
         # every window is the square again, from another start point
         for v in views:
             assert any(np.allclose(np.roll(v, k), square, atol=1e-9) for k in range(16))
+
+
+def test_requested_false_rejection_rate_is_kept():
+    d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.02, random_state=16)
+    t = synthetic_tentacle(400, 32, laps=(1.1, 2.0), noise=0.02, random_state=17)
+    ok = np.isfinite(t.data).all(axis=1) & t.complete
+    rejected = {}
+    for rate in (0.02, 0.2):
+        clf = TentacleClassifier(reject=rate).fit(d.data, d.target)
+        rejected[rate] = np.mean(clf.predict(t.data[ok]) == "unknown")
+    # split-conformal limits: new wraps of known classes are rejected at about the rate asked
+    assert rejected[0.02] < 0.07
+    assert 0.1 < rejected[0.2] < 0.32
+
+
+def test_class_spreads_leave_each_wrap_out():
+    from tentaclass.classifiers._tentacle import _SPREAD_PRIOR, _class_spreads
+
+    # two classes; each wrap's held-out elastic distance to its own class
+    d = np.array([[1.0, 5.0], [4.0, 5.0], [5.0, 2.0], [5.0, 2.0], [5.0, 2.0]])
+    y = np.array([0, 0, 1, 1, 1])
+    spread, loo = _class_spreads(d, y, 2)
+    prior = np.log(2.0)  # median of the own-class distances 1, 4, 2, 2, 2
+    a = _SPREAD_PRIOR
+    np.testing.assert_allclose(spread[0], np.exp((np.log(4.0) + a * prior) / (2 + a)))
+    np.testing.assert_allclose(spread[1], 2.0)
+    # wrap 0 left out of its own class, the other class as it is
+    np.testing.assert_allclose(loo[0], [np.exp((np.log(4.0) + a * prior) / (1 + a)), 2.0])
+    np.testing.assert_allclose(loo[2], [spread[0], 2.0])
+
+
+def test_partial_arc_found_whatever_its_turning_says():
+    from tentaclass.classifiers._tentacle_core import (
+        _arc_distances,
+        _arc_points,
+        _partial_distances,
+        _resample_rows,
+    )
+
+    rng = np.random.default_rng(3)
+    n = 64
+    turns = np.abs(rng.normal(2 * np.pi / n, 0.08, size=(5, n)))
+    turns *= 2 * np.pi / turns.sum(axis=1, keepdims=True)
+    heads = np.cumsum(turns, axis=1)
+    arc = heads[2, 10:55]  # 45 of 64 links of lap 2
+    arc = np.interp((np.arange(n) + 0.5) / n * 45 - 0.5, np.arange(45), arc)[None]
+    # its turning tells a share of the lap 25 % too small: the exact length is still tried
+    told = 45 / 64 / 1.25
+    d = _partial_distances(arc, np.array([told]), heads)
+    assert np.argmin(d[0]) == 2 and d[0, 2] < 0.05
+    taken_as_told = _arc_distances(_resample_rows(arc, _arc_points(told, n)), heads)
+    assert d[0, 2] < 0.5 * taken_as_told[0, 2]

@@ -28,11 +28,13 @@ from . import _elastic
 from ._shift_nn import ShiftNNClassifier
 from ._tentacle_core import (
     TentacleCore,
-    _arc_distances,
     _arc_points,
     _blend,
     _class_minima,
     _lap_outlines,
+    _novelty_features,
+    _partial_distances,
+    _resample_rows,
     _spectrum_features,
     _spectrum_scores,
     _three_or_more,
@@ -42,6 +44,10 @@ __all__ = ["TentacleClassifier"]
 
 #: Training wraps used as held-out queries to weigh the members and calibrate.
 _CALIBRATION_QUERIES = 300
+#: Calibration queries when rejecting (the rejection limit is a tail quantile).
+_REJECT_QUERIES = 1000
+#: Pseudo-count pulling a class's spread towards the median over classes.
+_SPREAD_PRIOR = 3.0
 #: Windows of one lap cut from each training wrap of more than one lap (extra views).
 _VIEWS = 2
 #: Weights tried for the exact-lap and the spectrum member (the lap matcher weighs 1).
@@ -92,7 +98,11 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     on held-out training wraps (leave-one-object-out for the matchers, 3-fold
     cross-validation over objects for the network): fewest errors, then least
     log loss. A wrap of less than one lap is matched as an arc against every
-    stretch of every training lap.
+    stretch of every training lap, as covering 0.6-2 times the share of a
+    lap its turning tells (a hugging chain bridges concavities, so turning
+    and length disagree), the best kept. A wrap of barely more than one lap
+    (under 1.15 by its turning) may be a partial one whose ends happen to
+    meet: the arc matcher's scores are added to the blend's.
 
     Probabilities are a softmax of the blended scores, with a temperature
     fitted on the same held-out wraps (and on partial arcs cut from them, for
@@ -103,13 +113,18 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     n_points : int, default=64
         Links of the averaged lap every wrap is resampled to.
     reject : bool or float, default=False
-        Open set. ``False``: always answer a trained class. ``True``: answer
-        ``unknown_label`` for a wrap farther from every training wrap than
-        95 % of the training wraps are from their nearest other one (leave one
-        out, a log-normal fitted by median and MAD, so a few odd training
-        wraps do not move it): about 5 % of known objects are rejected. A
-        float in (0, 1): that fraction of known objects may be rejected
-        instead.
+        Open set: the fraction of objects of known classes that may be
+        answered ``unknown_label`` (``True``: 0.05; ``False``: never reject).
+        A wrap is rejected when it looks more like an object of a class
+        never trained on than all but that fraction of held-out training
+        wraps do: as close to its second class as to its first (blended and
+        elastic), or far from its class for how compact the class is (see
+        ``reject_coef_``). The rule is learnt from held-out training wraps
+        (up to 1000), each scored as it is and with its own class taken out
+        (then it is an object of an unseen class), and its limit is the
+        quantile of the known ones at the requested fraction. Partial wraps
+        are rejected by the arc distance to the nearest class or the margin to
+        the second (each half of the fraction).
     unknown_label : str, default="unknown"
         The answer for rejected wraps.
 
@@ -152,12 +167,22 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         Softmax temperature of full wraps (on scaled distances).
     partial_scale_, partial_temperature_ : float
         The same for partial wraps.
-    reject_distance_, partial_reject_distance_ : float
-        Scaled distances to the nearest class beyond which a wrap is
-        "unknown" (``inf`` without ``reject``).
-    reject_margin_, partial_reject_margin_ : float
-        Scaled margins between the nearest and the second nearest class below
-        which a wrap is "unknown" (``-inf`` without ``reject``).
+    class_spread_ : ndarray of shape (n_classes,)
+        Typical held-out elastic distance of each class's wraps to their own
+        class (empty without ``reject``).
+    reject_coef_ : ndarray of shape (4,)
+        Weights of the three rejection features
+        (``tentaclass.classifiers._tentacle_core._novelty_features``: blended
+        and elastic ratios of the nearest to the second nearest class, elastic
+        distance over the class's spread, each ``log(1 + r)``) and the intercept.
+    reject_threshold_ : float
+        Full wraps scoring above it are "unknown" (``inf`` without ``reject``).
+    partial_reject_distance_ : float
+        Scaled arc distance to the nearest class beyond which a partial wrap
+        is "unknown" (``inf`` without ``reject``).
+    partial_reject_margin_ : float
+        Scaled margin between the nearest and the second nearest class below
+        which a partial wrap is "unknown" (``-inf`` without ``reject``).
 
     Examples
     --------
@@ -243,7 +268,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         features = _spectrum_features(X3) if use_spectrum else np.empty((0, 0))
         self.spectrum_ = _fit_spectrum(features, y_idx) if use_spectrum else None
         # held-out scores of every member on the calibration queries
-        q = _subset(len(yv), _CALIBRATION_QUERIES, rng)
+        q = _subset(len(yv), _CALIBRATION_QUERIES if rate is None else _REJECT_QUERIES, rng)
         d_lap = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
         d_lap[groups[q][:, None] == groups[owner][None, :]] = np.inf
         s_lap = _class_minima(d_lap, self.matcher_.labels_, k)
@@ -262,12 +287,18 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
                    s_el / self.elastic_scale_]  # fmt: skip
         self.weights_ = _choose_weights(members, y_idx[q])
         blended = _blend(members, self.weights_)
-        if self.weights_[3] == 0:  # not used: the model file need not hold it
+        if self.weights_[3] == 0 and rate is None:  # not used: the model file need not hold it
             self.elastic_heights_ = self.elastic_heights_[:0]
             self.elastic_complexity_ = self.elastic_complexity_[:0]
-        self.scale_, self.temperature_, self.reject_distance_, self.reject_margin_ = _calibrate(
-            blended, y_idx[q], rate
-        )
+        self.scale_, self.temperature_, _, _ = _calibrate(blended, y_idx[q], rate)
+        self.class_spread_ = np.empty(0)
+        self.reject_coef_, self.reject_threshold_ = np.zeros(4), np.inf
+        if rate is not None:
+            el = s_el / self.elastic_scale_
+            self.class_spread_, spread_loo = _class_spreads(el, y_idx[q], k)
+            self.reject_coef_, self.reject_threshold_ = _fit_rejection(
+                blended / self.scale_, el, y_idx[q], self.class_spread_, spread_loo, rate
+            )
         # partial wraps: arcs of 0.5-0.95 laps cut from the training laps
         closed = np.flatnonzero(split.closed)
         if closed.size == 0:  # no full lap anywhere: arcs of whatever was seen
@@ -291,8 +322,8 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         return self
 
     # -------------------------------------------------------------- predict
-    def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray]:
-        """Scaled class distances (n, n_classes), closed flags (n,), laps (n,)."""
+    def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray, FloatArray]:
+        """Class distances, closed flags, laps and unknown-ness (see ``_checked_scores``)."""
         check_is_fitted(self)
         return self._checked_scores(validate_data(self, X, dtype=np.float64, reset=False))
 
@@ -302,7 +333,8 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
 
     def predict(self, X: ArrayLike) -> np.ndarray:
         """Class of each wrap; ``unknown_label`` where rejected (see ``reject``)."""
-        return self._labels_of(*self._scores(X)[:2])
+        s, _, _, novelty = self._scores(X)
+        return self._labels_of(s, novelty)
 
     def grasp(self, X: ArrayLike) -> dict:
         """Grasp state, laps seen and the best guess with its probability, per wrap.
@@ -464,17 +496,84 @@ def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float,
     return scale, t, far, near
 
 
+def _class_spreads(
+    elastic: FloatArray, y: np.ndarray, n_classes: int
+) -> tuple[FloatArray, FloatArray]:
+    """Each class's spread, and each held-out wrap's with that wrap left out.
+
+    The spread of a class is the geometric mean of the held-out elastic
+    distances of its wraps to their own class, pulled towards the median over
+    all wraps by ``_SPREAD_PRIOR`` wraps' worth (a class with few wraps gets
+    the common spread). Returns ``(spread (n_classes,), loo (n, n_classes))``:
+    ``loo`` is ``spread`` in every row, except at each wrap's own class,
+    where the wrap itself is left out (its features are then those of a new wrap).
+    """
+    rows = np.arange(len(y))
+    own = elastic[rows, y]
+    ok = np.isfinite(own) & (own > 0)
+    logs = np.log(np.where(ok, own, 1.0))
+    prior = float(np.median(logs[ok])) if ok.any() else 0.0
+    total = np.bincount(y[ok], weights=logs[ok], minlength=n_classes)
+    count = np.bincount(y[ok], minlength=n_classes).astype(float)
+    a = _SPREAD_PRIOR
+    spread = np.exp((total + a * prior) / (count + a))
+    loo = np.tile(spread, (len(y), 1))
+    loo[rows[ok], y[ok]] = np.exp((total[y[ok]] - logs[ok] + a * prior) / (count[y[ok]] - 1 + a))
+    return spread, loo
+
+
+def _fit_rejection(
+    s: FloatArray,
+    elastic: FloatArray,
+    y: np.ndarray,
+    spread: FloatArray,
+    spread_loo: FloatArray,
+    rate: float,
+) -> tuple[FloatArray, float]:
+    """Coefficients and limit of the rejection rule from held-out training wraps.
+
+    Each held-out wrap is seen twice: as it is (a known object) and with its
+    own class taken out of its scores (what an object of a class never
+    trained on looks like: its nearest class is another one). A logistic
+    regression on :func:`_novelty_features` tells the two apart; the limit is
+    the ``1 - rate`` quantile of the known wraps' scores (split-conformal:
+    a new object of a known class is rejected with probability about ``rate``).
+    Returns ``(coefficients and intercept (4,), limit)``.
+    """
+    from sklearn.linear_model import LogisticRegression
+
+    rows = np.arange(len(y))
+    known = _novelty_features(s, elastic, spread_loo)
+    s_out, e_out = s.copy(), elastic.copy()
+    s_out[rows, y] = np.inf
+    e_out[rows, y] = np.inf
+    unseen = _novelty_features(s_out, e_out, spread)
+    features = np.vstack([known, unseen])
+    target = np.r_[np.zeros(len(y)), np.ones(len(y))]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        lr = LogisticRegression(C=10.0, max_iter=1000).fit(features, target)
+    coef = np.append(lr.coef_[0], lr.intercept_[0])
+    scores = np.sort(known @ coef[:-1] + coef[-1])
+    rank = min(len(scores) - 1, int(np.ceil((len(scores) + 1) * (1 - rate))) - 1)
+    return coef, float(scores[rank])
+
+
 def _cut_arc_distances(
     queries: FloatArray, heads: FloatArray, rng: np.random.Generator
 ) -> FloatArray:
-    """Distances of arcs of 0.5-0.95 laps, cut at random from ``queries``, to ``heads``."""
+    """Distances of arcs of 0.5-0.95 laps, cut at random from ``queries``, to ``heads``.
+
+    Each arc is resampled to the links of a lap and its length estimated
+    from its turning, as a partial wrap's is in prediction.
+    """
     n = queries.shape[1]
     ms = np.array([_arc_points(rng.uniform(0.5, 0.95), n) for _ in queries])
     ks = rng.integers(n, size=len(queries))
     ext = np.concatenate([queries, queries + 2 * np.pi], axis=1)
-    d = np.empty((len(queries), len(heads)))
+    arcs = np.empty((len(queries), n))
     for m in np.unique(ms):
         sel = np.flatnonzero(ms == m)
-        arcs = np.stack([ext[i, ks[i] : ks[i] + m] for i in sel])
-        d[sel] = _arc_distances(arcs, heads)
-    return d
+        arcs[sel] = _resample_rows(np.stack([ext[i, ks[i] : ks[i] + m] for i in sel]), n)
+    turning = (arcs[:, -1] - arcs[:, 0]) * n / (n - 1) / (2 * np.pi)
+    return _partial_distances(arcs, turning, heads)

@@ -20,6 +20,10 @@ from ..geometry import resample_closed
 _P_FLOOR = 1e-4
 #: Points of the rebuilt lap outline the elastic member describes.
 _ELASTIC_POINTS = 64
+#: Scales of a partial arc's length (laps from its turning) tried against the training laps.
+_ARC_SCALES = (0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4, 1.6, 1.8, 2.0)
+#: Full wraps of fewer laps than this are also matched as arcs (they may be partial).
+_AMBIGUOUS_LAPS = 1.15
 #: Training wraps matched elastically per query: the nearest by the lap matcher
 #: and by the exact matcher (the elastic matcher re-ranks them).
 _ELASTIC_CANDIDATES = (30, 15)
@@ -47,48 +51,97 @@ class TentacleCore:
     temperature_: float
     partial_scale_: float
     partial_temperature_: float
-    reject_distance_: float
-    reject_margin_: float
     partial_reject_distance_: float
     partial_reject_margin_: float
+    reject_distance_: float
+    reject_margin_: float
+    class_spread_: np.ndarray
+    reject_coef_: np.ndarray
+    reject_threshold_: float
 
-    def _checked_scores(self, Xv: FloatArray) -> tuple[FloatArray, np.ndarray, FloatArray]:
-        """Scaled class distances (n, n_classes), closed flags (n,), laps (n,) of checked wraps."""
+    def _checked_scores(
+        self, Xv: FloatArray
+    ) -> tuple[FloatArray, np.ndarray, FloatArray, FloatArray]:
+        """Scores of checked wraps: class distances, closed flags, laps, unknown-ness.
+
+        Returns the scaled distances to every class (n, n_classes), whether a
+        full lap was seen (n,), the laps (n,) and how far each wrap lies past
+        the rejection limit (n,): positive for a wrap to answer "unknown".
+        """
         Xv = _three_or_more(Xv)
         split = split_laps(Xv, self.n_points)
         k = len(self.classes_)
         out = np.empty((len(Xv), k))
+        novelty = np.full(len(Xv), -np.inf)
         closed = split.closed
         if closed.any():
-            out[closed] = self._closed_scores(Xv[closed], split.lap[closed]) / self.scale_
+            members = self._closed_members(Xv[closed], split.lap[closed])
+            out[closed] = _blend(members, self._weights()) / self.scale_
+            novelty[closed] = self._closed_novelty(out[closed], members[3])
+        # barely more than a lap: maybe a partial wrap whose ends happen to meet
+        near_one = np.flatnonzero(closed & (split.laps < _AMBIGUOUS_LAPS))
+        if near_one.size:
+            heads, turning = _arc_after_approach(
+                Xv[near_one], split.offset[near_one], split.direction[near_one], self.n_points
+            )
+            d = _partial_distances(heads, turning, self.headings_)
+            out[near_one] += _class_minima(d, self.arc_labels_, k) / self.partial_scale_
         rows = np.flatnonzero(~closed)
         if rows.size:
             heads = np.cumsum(split.lap[rows], axis=1)
-            ms = np.array([_arc_points(split.laps[r], self.n_points) for r in rows])
-            d = np.empty((rows.size, len(self.headings_)))
-            for m in np.unique(ms):
-                sel = np.flatnonzero(ms == m)
-                d[sel] = _arc_distances(_resample_rows(heads[sel], m), self.headings_)
-            out[rows] = _class_minima(d, self.arc_labels_, k) / self.partial_scale_
-        return out, closed, split.laps
+            d = _partial_distances(heads, split.laps[rows], self.headings_)
+            s = _class_minima(d, self.arc_labels_, k) / self.partial_scale_
+            out[rows] = s
+            ordered = np.sort(s, axis=1)
+            margin = ordered[:, 1] - ordered[:, 0] if k > 1 else np.full(len(s), np.inf)
+            novelty[rows] = np.maximum(
+                ordered[:, 0] - self.partial_reject_distance_,
+                self.partial_reject_margin_ - margin,
+            )
+        return out, closed, split.laps, novelty
 
-    def _closed_scores(self, X: FloatArray, laps: FloatArray) -> FloatArray:
-        """Blended member scores of wraps with a full lap, before the final scale."""
+    def _weights(self) -> FloatArray:
+        w = self.weights_
+        return np.append(w, 0.0) if len(w) == 3 else w  # saved before the elastic member
+
+    def _rejects(self) -> bool:
+        """Whether full wraps are ever answered "unknown" (the rule needs the elastic member)."""
+        if hasattr(self, "reject_coef_"):
+            return bool(np.isfinite(self.reject_threshold_))
+        return bool(np.isfinite(self.reject_distance_) or np.isfinite(self.reject_margin_))
+
+    def _closed_novelty(self, s: FloatArray, elastic: FloatArray | None) -> FloatArray:
+        """How far full wraps lie past the rejection limit (positive: "unknown")."""
+        if not self._rejects():
+            return np.full(len(s), -np.inf)
+        if not hasattr(self, "reject_coef_"):  # models saved before the elastic rule
+            ordered = np.sort(s, axis=1)
+            margin = ordered[:, 1] - ordered[:, 0] if s.shape[1] > 1 else np.full(len(s), np.inf)
+            return np.maximum(ordered[:, 0] - self.reject_distance_, self.reject_margin_ - margin)
+        assert elastic is not None
+        f = _novelty_features(s, elastic, self.class_spread_)
+        return f @ self.reject_coef_[:-1] + self.reject_coef_[-1] - self.reject_threshold_
+
+    def _closed_members(self, X: FloatArray, laps: FloatArray) -> list[FloatArray | None]:
+        """Scaled class scores of each member for wraps with a full lap.
+
+        A member of weight 0 is left out (``None``), except the elastic one
+        where the rejection rule needs it.
+        """
         k = len(self.classes_)
         d_lap = np.sqrt(self.matcher_.shift_distances(laps))
         s_lap = _class_minima(d_lap, self.matcher_.labels_, k) / self.lap_scale_
         s_exact = s_spec = s_el = None
-        w = self.weights_
-        if len(w) == 3:  # saved before the elastic member: three members
-            w = np.append(w, 0.0)
-        if w[1] > 0 or w[3] > 0:
+        w = self._weights()
+        elastic = w[3] > 0 or (hasattr(self, "reject_coef_") and self._rejects())
+        if w[1] > 0 or elastic:
             d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
             s_exact = _class_minima(d_exact, self.exact_.labels_, k) / self.exact_scale_
         if w[2] > 0:
             s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
-        if w[3] > 0:
+        if elastic:
             s_el = self._elastic_minima(laps, d_lap, d_exact) / self.elastic_scale_
-        return _blend([s_lap, s_exact, s_spec, s_el], w)
+        return [s_lap, s_exact, s_spec, s_el]
 
     def _elastic_minima(
         self, laps: FloatArray, d_lap: FloatArray, d_exact: FloatArray
@@ -122,18 +175,42 @@ class TentacleCore:
         t = np.where(closed, self.temperature_, self.partial_temperature_)[:, None]
         return softmax_rows(-s / t)
 
-    def _labels_of(self, s: FloatArray, closed: np.ndarray) -> np.ndarray:
+    def _labels_of(self, s: FloatArray, novelty: FloatArray) -> np.ndarray:
         """Class of each wrap, or ``unknown_label``, from the scores of :meth:`_checked_scores`."""
         pred = self.classes_[np.argmin(s, axis=1)]
-        far = np.where(closed, self.reject_distance_, self.partial_reject_distance_)
-        near = np.where(closed, self.reject_margin_, self.partial_reject_margin_)
-        ordered = np.sort(s, axis=1)
-        margin = ordered[:, 1] - ordered[:, 0] if s.shape[1] > 1 else np.full(len(s), np.inf)
-        unknown = (ordered[:, 0] > far) | (margin < near)
+        unknown = novelty > 0
         if unknown.any():
             pred = pred.astype(object)
             pred[unknown] = self.unknown_label
         return pred
+
+
+def _novelty_features(s: FloatArray, elastic: FloatArray, spread: FloatArray) -> FloatArray:
+    """What tells a wrap of an unseen class, per wrap: three ratios, each ``log(1 + r)``.
+
+    - the blended score of the nearest class over that of the second nearest
+      (near 1: as close to two classes as to one);
+    - the same for the elastic member alone;
+    - the elastic distance to the nearest class over that class's spread
+      (the typical distance of its training wraps to their nearest other
+      wrap of the class): far from a compact class weighs more than from a
+      loose one.
+
+    ``s`` and ``elastic`` are (n, n_classes) scores, ``spread`` (n_classes,)
+    or (n, n_classes).
+    """
+    rows = np.arange(len(s))
+    best = np.argmin(s, axis=1)
+    ordered = np.sort(s, axis=1)
+    el = np.sort(elastic, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = [
+            ordered[:, 0] / ordered[:, 1] if s.shape[1] > 1 else np.zeros(len(s)),
+            el[:, 0] / el[:, 1] if s.shape[1] > 1 else np.zeros(len(s)),
+            elastic[rows, best] / np.broadcast_to(spread, s.shape)[rows, best],
+        ]
+    f = np.stack(ratios, axis=1)
+    return np.log1p(np.clip(np.nan_to_num(f, nan=0.0, posinf=1e6), 0.0, 1e6))
 
 
 def softmax_rows(a: FloatArray) -> FloatArray:
@@ -235,6 +312,42 @@ def _resample_rows(h: FloatArray, m: int) -> FloatArray:
     x_old = (np.arange(n) + 0.5) / n
     x_new = (np.arange(m) + 0.5) / m
     return np.array([np.interp(x_new, x_old, row) for row in h])
+
+
+def _arc_after_approach(
+    X: FloatArray, offset: np.ndarray, direction: np.ndarray, n_points: int
+) -> tuple[FloatArray, FloatArray]:
+    """Heading functions of the chain after its approach, in ``n_points`` equal steps.
+
+    What :func:`~tentaclass.features.split_laps` gives a partial wrap, for any
+    wrap: returns the headings (n, n_points), relative to the first link after
+    the approach, and the laps the chain turns through after its approach.
+    """
+    n = X.shape[1]
+    heading = np.cumsum(X * direction[:, None], axis=1)
+    a = offset.astype(float)
+    x = a[:, None] + (np.arange(n_points + 1) / n_points) * (n - 1 - a)[:, None]
+    h = np.array([np.interp(row, np.arange(n), hr) for row, hr in zip(x, heading, strict=True)])
+    return np.cumsum(np.diff(h, axis=1), axis=1), (h[:, -1] - h[:, 0]) / (2 * np.pi)
+
+
+def _partial_distances(heads: FloatArray, laps: FloatArray, headings: FloatArray) -> FloatArray:
+    """Distances of partial wraps to every training lap: the best stretch, over arc lengths.
+
+    ``heads`` (g, n) are heading functions of partial wraps resampled to
+    ``n`` links, ``laps`` (g,) the laps each covers by its turning. The
+    turning tells an arc's share of the outline only roughly (a hugging
+    chain bridges concavities), so the arc is matched as covering each of
+    ``laps * _ARC_SCALES`` of a training lap and the best is kept.
+    """
+    n = headings.shape[1]
+    d = np.full((len(heads), len(headings)), np.inf)
+    for f in _ARC_SCALES:
+        ms = np.array([_arc_points(t * f, n) for t in laps])
+        for m in np.unique(ms):
+            sel = np.flatnonzero(ms == m)
+            d[sel] = np.minimum(d[sel], _arc_distances(_resample_rows(heads[sel], m), headings))
+    return d
 
 
 def _arc_distances(arc: FloatArray, heads: FloatArray, chunk: int = 8) -> FloatArray:

@@ -191,10 +191,22 @@ class _Tentacle(TentacleCore, _Light):
     state = frozenset(
         {"classes_", "n_features_in_", "matcher_", "exact_", "spectrum_", "weights_"}
         | {"lap_scale_", "exact_scale_", "headings_", "arc_labels_", "scale_", "temperature_"}
-        | {"partial_scale_", "partial_temperature_", "reject_distance_", "reject_margin_"}
+        | {"partial_scale_", "partial_temperature_"}
         | {"partial_reject_distance_", "partial_reject_margin_"}
         | {"elastic_scale_", "elastic_heights_", "elastic_complexity_", "owner_"}
+        | {"class_spread_", "reject_coef_", "reject_threshold_"}
     )
+    #: What models saved before the elastic rejection rule hold instead of its three.
+    earlier = (state - {"class_spread_", "reject_coef_", "reject_threshold_"}) | {
+        "reject_distance_",
+        "reject_margin_",
+    }
+
+    @classmethod
+    def build(cls, params: dict, state: dict) -> _Light:
+        if cls is _Tentacle and set(state) == cls.earlier:
+            return _EarlierTentacle.build(params, state)
+        return super().build(params, state)
 
     def _check(self) -> None:
         _require(isinstance(self.n_points, int) and self.n_points >= 8)
@@ -206,12 +218,25 @@ class _Tentacle(TentacleCore, _Light):
         _require(_is_array(self.elastic_heights_, "f", 3) and _is_array(self.owner_, "iu", 1))
         _require(_is_array(self.elastic_complexity_, "f", 1))
         _require(_is_array(self.headings_, "f", 2) and _is_array(self.arc_labels_, "iu", 1))
+        if hasattr(self, "reject_coef_"):
+            _require(_is_array(self.reject_coef_, "f", 1) and self.reject_coef_.shape == (4,))
+            _require(_is_array(self.class_spread_, "f", 1))
+            _require(isinstance(self.reject_threshold_, float))
+            _require(self.class_spread_.size in (0, len(self.classes_)))
+            _require(self.class_spread_.size > 0 or not np.isfinite(self.reject_threshold_))
 
     def predict(self, X: ArrayLike) -> np.ndarray:
-        return self._labels_of(*self._checked_scores(_check_rows(self, X))[:2])
+        s, _, _, novelty = self._checked_scores(_check_rows(self, X))
+        return self._labels_of(s, novelty)
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         return self._proba_of(*self._checked_scores(_check_rows(self, X))[:2])
+
+
+class _EarlierTentacle(_Tentacle):
+    """A model saved before the elastic rejection rule (distance and margin limits)."""
+
+    state = _Tentacle.earlier
 
 
 # ------------------------------------------------------------------ scikit-learn's
