@@ -1,16 +1,9 @@
 import numpy as np
 import pytest
-from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from tentaclass import TentacleClassifier, wrap_many
 from tentaclass.datasets import synthetic_tentacle
 from tentaclass.shapes import circle, rectangle, square, triangle
-
-
-@parametrize_with_checks([TentacleClassifier()])
-def test_sklearn_compatible(estimator, check):
-    check(estimator)
-
 
 SHAPES = {
     "square": square(1.0),
