@@ -110,7 +110,13 @@ def test_unknown_class_is_rejected():
 
 @pytest.mark.parametrize(
     "kwargs, match",
-    [({"n_points": 4}, "n_points"), ({"reject": 1.5}, "reject"), ({"reject": "x"}, "reject")],
+    [
+        ({"n_points": 4}, "n_points must be at least 8"),
+        ({"n_points": 8.0}, "n_points must be an integer"),
+        ({"n_points": True}, "n_points must be an integer"),
+        ({"reject": 1.5}, "reject"),
+        ({"reject": "x"}, "reject"),
+    ],
 )
 def test_bad_parameters(kwargs, match):
     X, y = synthetic_tentacle(20, 16, random_state=0, return_X_y=True)

@@ -22,6 +22,7 @@ from threadpoolctl import threadpool_limits
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
+from .._validation import check_positive_int
 from ..errors import InputError
 from ..features import LapSplit, last_lap, split_laps
 from . import _elastic
@@ -205,10 +206,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
 
     # ------------------------------------------------------------------ fit
     def _check_params(self) -> float | None:
-        if isinstance(self.n_points, bool) or not isinstance(self.n_points, numbers.Integral):
-            raise InputError(f"n_points must be an integer >= 8, got {self.n_points!r}")
-        if self.n_points < 8:
-            raise InputError(f"n_points must be an integer >= 8, got {self.n_points!r}")
+        check_positive_int(self.n_points, "n_points", minimum=8)
         r = self.reject
         if r is False or r is None:
             return None
