@@ -164,7 +164,9 @@ def test_longer_wraps_give_one_lap_views():
 
 
 def test_requested_false_rejection_rate_is_kept():
-    d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.02, random_state=16)
+    """Measured on 300 training wraps: 3.0 % rejected at 2 % asked, 23.8 % at 20 %
+    (500 wraps: 3.3 % and 19.3 %)."""
+    d = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.02, random_state=16)
     t = synthetic_tentacle(400, 32, laps=(1.1, 2.0), noise=0.02, random_state=17)
     ok = np.isfinite(t.data).all(axis=1) & t.complete
     rejected = {}
