@@ -1,5 +1,8 @@
-"""The default recogniser on fixed-chain MPEG-7 wraps (a subset; the full numbers are in
-BENCHMARKS.md)."""
+"""The default recogniser on fixed-chain MPEG-7 wraps: ten classes, 3-fold cross-validation.
+
+The full-size numbers (all 70 classes, 10-fold) are measured by
+``benchmarks/bench_recognition.py`` and listed in BENCHMARKS.md.
+"""
 
 import shutil
 
@@ -25,7 +28,7 @@ def wraps(mpeg7_folder, tmp_path_factory):
 def _cv(d, noise, **kw):
     X = d.data + np.random.default_rng(0).normal(0.0, noise, d.data.shape)
     eval_rows, hits, rejected = d.wrap_index == 0, [], []
-    for tr, te in StratifiedGroupKFold(5, shuffle=True, random_state=0).split(
+    for tr, te in StratifiedGroupKFold(3, shuffle=True, random_state=0).split(
         X, d.target, d.groups
     ):
         tr = tr[d.complete[tr]]
@@ -41,5 +44,8 @@ def _cv(d, noise, **kw):
 @pytest.mark.slow
 @pytest.mark.parametrize("noise, goal", [(0.0, 0.9), (0.05, 0.8)])
 def test_fixed_chain_taut_subset(wraps, noise, goal):
+    """Every object evaluated once (its first wrap), from a model trained on the other
+    two thirds of the objects: measured 95.0 % noise-free and 85.0 % at noise 0.05
+    (5-fold: 93.5 % and 84.0 %)."""
     acc, _ = _cv(wraps, noise)
     assert acc >= goal

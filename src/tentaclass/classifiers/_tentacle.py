@@ -188,7 +188,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     Examples
     --------
     >>> from tentaclass.datasets import synthetic_tentacle
-    >>> X, y = synthetic_tentacle(300, 32, noise=0.02, random_state=0, return_X_y=True)
+    >>> X, y = synthetic_tentacle(150, 32, noise=0.02, random_state=0, return_X_y=True)
     >>> clf = TentacleClassifier().fit(X, y)
     >>> Xt, yt = synthetic_tentacle(50, 32, noise=0.02, random_state=1, return_X_y=True)
     >>> bool(clf.score(Xt, yt) > 0.9)
