@@ -102,8 +102,8 @@ def _chain_segment(j, trk):
     else:
         x0, y0 = _offset_vertex(tp, j - 1, thick)
         th, lap = tth[j] + TWO_PI, tlev[j] + 1
-        # on the object where both ends are (a thin chain only)
-        dv = max(tdev[j - 1], tdev[j]) if thick == 0.0 else np.inf
+        # on the object where the envelope follows it (a thin chain only)
+        dv = tdev[j] if thick == 0.0 else np.inf
     x1, y1 = _offset_vertex(tp, j, thick)
     if x1 != x0 or y1 != y0:
         th = _near(np.arctan2(y1 - y0, x1 - x0), th)
@@ -629,20 +629,27 @@ def walk(
         joints[i, 0], joints[i, 1] = xx, xy
         if a0 >= 0:
             # the envelope: the vertices passed that lie outside the link, then its tip
+            # (each with whether the envelope reaching it follows the object)
             ux, uy = xx - ax, xy - ay
             ck, cj = sk, sj
+            # a link from a landing joint reaches down onto the object as if from it
+            landing = i - 1 == a0 and sk < 0 and a_sup
+            on = contact[i - 1] or landing
             while not (ck == k and cj == j):
                 s2 = _segment(ck, cj, trk)
-                if ux * (s2[3] - ay) - uy * (s2[2] - ax) < -exact * ln:
+                kept = ux * (s2[3] - ay) - uy * (s2[2] - ax) < -exact * ln
+                on = on and (kept or landing) and (s2[5] <= exact or ck < 0)
+                if kept:
                     tp, tth, tlev, tdev, nv = _push(
-                        tp, tth, tlev, tdev, nv, s2[2], s2[3], s2[4], s2[7], s2[5], exact
-                    )
+                        tp, tth, tlev, tdev, nv, s2[2], s2[3], s2[4], s2[7],
+                        0.0 if on else np.inf, exact,
+                    )  # fmt: skip
                 cj += 1
                 if cj >= s2[6]:
                     ck += 1
                     cj = 0
-            # the link rests on the object where it joins two points of it
-            x_dv = x_dev if not (overhang or pivot or bridged or k < 0) else np.inf
+            on = on and not (sk == k and sj == j)  # a bare link is not on the object
+            x_dv = 0.0 if on and x_dev <= exact and not (overhang or pivot) else np.inf
             tp, tth, tlev, tdev, nv = _push(
                 tp, tth, tlev, tdev, nv, xx, xy, phi[i], x_lap, x_dv, exact
             )
