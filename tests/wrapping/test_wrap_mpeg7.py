@@ -1,4 +1,7 @@
-"""Every MPEG-7 outline, both modes: links never cross the object, contacts on it."""
+"""A spread of MPEG-7 outlines, both modes: links never cross the object, contacts on it.
+
+All 1400 are checked by ``benchmarks/wrap_crossings.py`` (BENCHMARKS.md).
+"""
 
 import numpy as np
 import pytest
@@ -15,11 +18,11 @@ def mpeg7():
     return load_mpeg7(MPEG7, max_vertices=1000)
 
 
-@pytest.mark.slow
 @needs_mpeg7
 @pytest.mark.parametrize("mode", ["taut", "hug"])
-def test_all_1400_outlines(mpeg7, mode):
+def test_every_20th_outline(mpeg7, mode):
     outlines, _, names = mpeg7
+    outlines, names = outlines[::20], names[::20]
     rng = np.random.default_rng(7)
     crossing, bad_contact, bad_length, jammed, refused = [], [], [], 0, 0
     for outline, name in zip(outlines, names, strict=True):
@@ -49,12 +52,11 @@ def test_all_1400_outlines(mpeg7, mode):
         if air.any() and (crossing_links(outline, j) & air).any():
             crossing.append(name)
     # Links in the air (approach, bridges, overhangs, links folded in where the
-    # support offers nothing) should never cross the object. The generator now
-    # places every link, and some folded links still do: 14 taut and 82 hug
-    # wraps of these 1400 (BENCHMARKS.md, "Crossing links"). The bound keeps
-    # that from growing; the goal is 0.
-    assert len(crossing) <= (14 if mode == "taut" else 82), ("crossing", len(crossing),
-                                                             crossing[:10])  # fmt: skip
+    # support offers nothing) should never cross the object. In taut mode none
+    # do here; in hug mode some folded links still do (3 of these 70 wraps).
+    # The bound keeps that from growing; the goal is 0.
+    assert len(crossing) <= (0 if mode == "taut" else 3), ("crossing", len(crossing),
+                                                           crossing[:10])  # fmt: skip
     assert not bad_contact, ("contact", len(bad_contact), bad_contact[:10])
     assert not bad_length, bad_length[:10]
     # every link is placed: no wrap stops early
