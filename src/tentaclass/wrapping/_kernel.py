@@ -263,13 +263,15 @@ def _relocate(x, y, k, j, px, py, trk):
         return k, j, px, py
     best = np.inf
     bj, bx, by = j, px, py
-    if k > 0:  # the chain: from the cursor on to the end of the track
+    if k > 0:  # the chain: a few links on from the cursor (further, it would overtake itself)
         best = (px - x) ** 2 + (py - y) ** 2
         jj = j
-        while True:
+        walked = 0.0
+        while walked < 3.0 * trk[15]:
             s = _segment(k, jj, trk)
             if s[6] == 0:
                 break
+            walked += np.hypot(s[2] - s[0], s[3] - s[1])
             x0, y0 = (px, py) if jj == j else (s[0], s[1])
             d, cx, cy = _nearest_on(x, y, x0, y0, s[2], s[3])
             if d < best:
@@ -446,7 +448,9 @@ def walk(
         trk = (pts, off, theta, dev, es, spt, th0, base, app_th, tp, tth, tlev, tdev, usable,
                thick, ln)  # fmt: skip
         sk, sj, spx, spy = k, j, px, py
-        r = _search(ax, ay, ln, k, j, px, py, False, slack, max_search, trk)
+        # on the chain the next joint is near: further on, it would overtake itself
+        limit = max_search if k < 1 else 3.0 * ln
+        r = _search(ax, ay, ln, k, j, px, py, False, slack, limit, trk)
         if r[0] != 0:
             # nothing of the track at a link's length ahead: the link folds in
             xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
@@ -487,10 +491,12 @@ def walk(
             overhang = True
             if check == 3 or k >= 1:  # look further along for a point the link can reach
                 ck, cj, cx, cy, used = k, j, xx, xy, 0.0
+                # on the chain only a few links on: further, it would overtake itself
+                reach = bridge_limit if k < 1 else 2.0 * ln
                 for _ in range(10000):
-                    if used >= bridge_limit:
+                    if used >= reach:
                         break
-                    r2 = _search(ax, ay, ln, ck, cj, cx, cy, True, slack, bridge_limit - used, trk)
+                    r2 = _search(ax, ay, ln, ck, cj, cx, cy, True, slack, reach - used, trk)
                     if r2[0] != 0:
                         break
                     used += r2[8]
