@@ -110,7 +110,7 @@ def _chain_segment(j, trk):
     return x0, y0, x1, y1, th, dv, _OPEN, lap
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, inline="always")
 def _segment(k, j, trk):
     """Segment ``j`` of lap ``k`` (``k == -1``: the approach; ``k == 1``: the chain).
 
