@@ -535,6 +535,23 @@ def walk(
                 x_lap = max(tl[i - 1], s[7] if s[6] > 0 else tl[i - 1])
                 x_on, x_sup = False, False
                 lap[i] = -1
+        if overhang and k >= 1:
+            # else it turns clockwise until it rests on whatever blocks it
+            ok, tx, ty, t_on = free_direction_links(
+                ax, ay, xx - ax, xy - ay, ln, obj, eps, joints, i - 1
+            )
+            if ok:
+                overhang, pivot = False, True
+                xx, xy = tx, ty
+                if sk < k:
+                    k, j, px, py = _relocate(xx, xy, k, 0, spt[0, 0], spt[0, 1], trk)
+                else:
+                    k, j, px, py = _relocate(xx, xy, sk, sj, spx, spy, trk)
+                s = _segment(k, j, trk)
+                x_th = s[4] if s[6] > 0 else a_th
+                x_lap = max(tl[i - 1], s[7] if s[6] > 0 else tl[i - 1])
+                x_on, x_sup = t_on, False
+                lap[i] = -1
         if overhang:
             # The chord would cut through the object: the link rests on the
             # most clockwise vertex passed (the tangent seen from the joint)
