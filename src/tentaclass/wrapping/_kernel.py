@@ -111,20 +111,15 @@ def _chain_segment(j, trk):
 
 
 @nb.njit(cache=True, inline="always")
-def _segment(k, j, trk):
-    """Segment ``j`` of lap ``k`` (``k == -1``: the approach; ``k == 1``: the chain).
+def _curve_segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th):
+    """Segment ``j`` of the approach (``k == -1``) or of the first lap (``k == 0``).
 
-    Returns ``x0, y0, x1, y1, theta, deviation, n_segments_in_lap, lap``; the
-    deviation is how far the segment strays from the object's outline (inf
-    for segments that are not on the support curve), ``lap`` the lap a joint
-    placed on it belongs to.
+    Returns as :func:`_segment`. Takes the arrays themselves rather than the
+    track tuple: unpacking the tuple on every segment walked costs reference
+    counting on each of its arrays.
     """
-    pts, off, theta, dev, es = trk[0], trk[1], trk[2], trk[3], trk[4]
-    spt, th0, base, app_th = trk[5], trk[6], trk[7], trk[8]
     if k < 0:
         return base[0], base[1], spt[0, 0], spt[0, 1], app_th, np.inf, 1, -1
-    if k > 0:
-        return _chain_segment(j, trk)
     o = off[0]
     m = off[1] - o
     e0 = es[0]
@@ -140,6 +135,21 @@ def _segment(k, j, trk):
         return pts[i0, 0], pts[i0, 1], spt[0, 0], spt[0, 1], th, on, m + 1, 0
     i1 = o + (ee + 1) % m
     return pts[i0, 0], pts[i0, 1], pts[i1, 0], pts[i1, 1], th, on, m + 1, 0
+
+
+@nb.njit(cache=True)
+def _segment(k, j, trk):
+    """Segment ``j`` of lap ``k`` (``k == -1``: the approach; ``k == 1``: the chain).
+
+    Returns ``x0, y0, x1, y1, theta, deviation, n_segments_in_lap, lap``; the
+    deviation is how far the segment strays from the object's outline (inf
+    for segments that are not on the support curve), ``lap`` the lap a joint
+    placed on it belongs to.
+    """
+    if k > 0:
+        return _chain_segment(j, trk)
+    return _curve_segment(k, j, trk[0], trk[1], trk[2], trk[3], trk[4], trk[5], trk[6],
+                          trk[7], trk[8])  # fmt: skip
 
 
 @nb.njit(cache=True)
@@ -184,8 +194,13 @@ def _search(ax, ay, ln, k, j, px, py, skip_first, slack, limit, trk):
     """
     bridged = False
     walked = 0.0
+    pts, off, theta, dev, es = trk[0], trk[1], trk[2], trk[3], trk[4]
+    spt, th0, base, app_th = trk[5], trk[6], trk[7], trk[8]
     while True:
-        seg = _segment(k, j, trk)
+        if k > 0:
+            seg = _chain_segment(j, trk)
+        else:
+            seg = _curve_segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th)
         x1, y1, th, dv, nseg = seg[2], seg[3], seg[4], seg[5], seg[6]
         if nseg == 0:
             return 2, k, j, px, py, th, dv, bridged, walked, seg[7]
