@@ -51,7 +51,7 @@ LANDING = 0.25
 _OPEN = 1 << 62
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _unit(tp, s):
     dx = tp[s + 1, 0] - tp[s, 0]
     dy = tp[s + 1, 1] - tp[s, 1]
@@ -110,7 +110,7 @@ def _chain_segment(j, trk):
     return x0, y0, x1, y1, th, dv, _OPEN, lap
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _curve_segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th):
     """Segment ``j`` of the approach (``k == -1``) or of the first lap (``k == 0``).
 
