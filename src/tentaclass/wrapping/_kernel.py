@@ -528,7 +528,10 @@ def walk(
             vk, vj, vx, vy, found = 0, 0, 0.0, 0.0, False
             ck, cj = sk, sj
             while not (ck == k and cj == j):
-                s2 = _segment(ck, cj, trk)
+                if ck > 0:
+                    s2 = _chain_segment(cj, trk)
+                else:  # the arrays at hand: no reference counting per segment
+                    s2 = _curve_segment(ck, cj, pts, off, theta, dev, es, spt, th0, base, app_th)
                 rr = np.hypot(s2[2] - ax, s2[3] - ay)
                 if 1e-12 * ln < rr:
                     tx, ty = ax + ln * (s2[2] - ax) / rr, ay + ln * (s2[3] - ay) / rr
@@ -576,7 +579,10 @@ def walk(
             wk, wj, wx, wy, w_th = 0, 0, 0.0, 0.0, 0.0
             ck, cj = sk, sj
             while not (ck == k and cj == j):
-                s2 = _segment(ck, cj, trk)
+                if ck > 0:
+                    s2 = _chain_segment(cj, trk)
+                else:  # the arrays at hand: no reference counting per segment
+                    s2 = _curve_segment(ck, cj, pts, off, theta, dev, es, spt, th0, base, app_th)
                 vx, vy = s2[2] - ax, s2[3] - ay
                 if vx * vx + vy * vy > 1e-24 * ln * ln:
                     ang = np.arctan2(ux * vy - uy * vx, ux * vx + uy * vy)
@@ -657,7 +663,10 @@ def walk(
             landing = i - 1 == a0 and sk < 0 and a_sup
             on = contact[i - 1] or landing
             while not (ck == k and cj == j):
-                s2 = _segment(ck, cj, trk)
+                if ck > 0:
+                    s2 = _chain_segment(cj, trk)
+                else:  # the arrays at hand: no reference counting per segment
+                    s2 = _curve_segment(ck, cj, pts, off, theta, dev, es, spt, th0, base, app_th)
                 kept = ux * (s2[3] - ay) - uy * (s2[2] - ax) < -exact * ln
                 on = on and (kept or landing) and (s2[5] <= exact or ck < 0)
                 if kept:
