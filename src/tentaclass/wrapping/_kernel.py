@@ -349,28 +349,34 @@ def _blocked(ax, ay, bx, by, k, obj, eps, joints, a0, i):
 
 
 @nb.njit(cache=True)
-def _push(tp, tth, tlev, tdev, nv, x, y, th, lev, dv, tol):
-    """Append vertex ``(x, y)`` to the envelope (arrays grown as needed).
+def _grown(tp, tth, tlev, tdev, nv):
+    """The envelope's arrays with twice the room (the first ``nv`` entries copied)."""
+    tp2 = np.empty((2 * nv, 2))
+    tp2[:nv] = tp[:nv]
+    tth2 = np.empty(2 * nv)
+    tth2[:nv] = tth[:nv]
+    tlev2 = np.empty(2 * nv, np.int64)
+    tlev2[:nv] = tlev[:nv]
+    tdev2 = np.empty(2 * nv)
+    tdev2[:nv] = tdev[:nv]
+    return tp2, tth2, tlev2, tdev2
+
+
+@nb.njit(cache=True)
+def _put(tp, tth, tlev, tdev, nv, x, y, th, lev, dv, tol):
+    """Append vertex ``(x, y)`` to the envelope (room for it given); the new count.
 
     ``th`` is the unwrapped direction of the track arriving there, ``lev`` the
     lap it lies on, ``dv`` how far the track arriving there strays from the
-    object (inf: off it).
+    object (inf: off it). A vertex on the last one is not repeated. Returns
+    the count only: handing the arrays back would count references on each
+    of them on every vertex.
     """
     if nv > 0 and abs(tp[nv - 1, 0] - x) <= tol and abs(tp[nv - 1, 1] - y) <= tol:
-        return tp, tth, tlev, tdev, nv
-    if nv == tp.shape[0]:
-        tp2 = np.empty((2 * nv, 2))
-        tp2[:nv] = tp
-        tth2 = np.empty(2 * nv)
-        tth2[:nv] = tth
-        tlev2 = np.empty(2 * nv, np.int64)
-        tlev2[:nv] = tlev
-        tdev2 = np.empty(2 * nv)
-        tdev2[:nv] = tdev
-        tp, tth, tlev, tdev = tp2, tth2, tlev2, tdev2
+        return nv
     tp[nv, 0], tp[nv, 1] = x, y
     tth[nv], tlev[nv], tdev[nv] = th, max(lev, 0), dv
-    return tp, tth, tlev, tdev, nv + 1
+    return nv + 1
 
 
 @nb.njit(cache=True)
@@ -450,9 +456,9 @@ def walk(
     lap[0] = k
     tl[0] = k
     if a0 == 0:
-        tp, tth, tlev, tdev, nv = _push(
-            tp, tth, tlev, tdev, nv, ax, ay, th0, 0, 0.0 if a_sup else np.inf, exact
-        )
+        if nv == tp.shape[0]:
+            tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+        nv = _put(tp, tth, tlev, tdev, nv, ax, ay, th0, 0, 0.0 if a_sup else np.inf, exact)
         tn[0] = nv
     phi_v = _virtual_heading(ln, pts, off, theta, es, spt, th0)
     phi[0] = app_th if approach else phi_v
@@ -479,9 +485,9 @@ def walk(
             if a0 < 0 and k >= 0:
                 a0 = i
             if a0 >= 0:
-                tp, tth, tlev, tdev, nv = _push(
-                    tp, tth, tlev, tdev, nv, xx, xy, phi[i], tl[i], np.inf, exact
-                )
+                if nv == tp.shape[0]:
+                    tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                nv = _put(tp, tth, tlev, tdev, nv, xx, xy, phi[i], tl[i], np.inf, exact)
             tn[i] = nv
             ax, ay, a_th, a_sup = xx, xy, phi[i], False
             placed = i
@@ -670,7 +676,9 @@ def walk(
                 kept = ux * (s2[3] - ay) - uy * (s2[2] - ax) < -exact * ln
                 on = on and (kept or landing) and (s2[5] <= exact or ck < 0)
                 if kept:
-                    tp, tth, tlev, tdev, nv = _push(
+                    if nv == tp.shape[0]:
+                        tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                    nv = _put(
                         tp, tth, tlev, tdev, nv, s2[2], s2[3], s2[4], s2[7],
                         0.0 if on else np.inf, exact,
                     )  # fmt: skip
@@ -680,14 +688,14 @@ def walk(
                     cj = 0
             on = on and not (sk == k and sj == j)  # a bare link is not on the object
             x_dv = 0.0 if on and x_dev <= exact and not (overhang or pivot) else np.inf
-            tp, tth, tlev, tdev, nv = _push(
-                tp, tth, tlev, tdev, nv, xx, xy, phi[i], x_lap, x_dv, exact
-            )
+            if nv == tp.shape[0]:
+                tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+            nv = _put(tp, tth, tlev, tdev, nv, xx, xy, phi[i], x_lap, x_dv, exact)
         elif k >= 0 or x_sup:
             a0 = i
-            tp, tth, tlev, tdev, nv = _push(
-                tp, tth, tlev, tdev, nv, xx, xy, th0, x_lap, 0.0 if x_sup else np.inf, exact
-            )
+            if nv == tp.shape[0]:
+                tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+            nv = _put(tp, tth, tlev, tdev, nv, xx, xy, th0, x_lap, 0.0 if x_sup else np.inf, exact)
         tn[i] = nv
         contact[i] = x_on
         ax, ay, a_th, a_sup = xx, xy, x_th, x_sup
