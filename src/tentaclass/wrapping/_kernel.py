@@ -18,7 +18,7 @@ placed; a link never walks on the two links before it.
 
 The walk's state travels in one tuple, the *track* ``trk``:
 ``(pts, off, theta, dev, es, spt, th0, base, app_th, tp, tth, tlev, tdev, nv,
-thick, ln)``: ``tp[:nv]`` holds the envelope's vertices usable so far, ``tth``
+thick, ln)``: ``tp[:nv[0]]`` holds the envelope's vertices usable so far, ``tth``
 the unwrapped direction of the track arriving at each, ``tlev`` the lap each
 lies on, ``tdev`` how far the track arriving there strays from the object,
 ``thick`` the thickness.
@@ -92,7 +92,7 @@ def _chain_segment(j, trk):
     ``n_segments`` 0 where the track does not reach yet.
     """
     spt, th0, tp, tth, tlev, tdev, nv, thick = (trk[5], trk[6], trk[9], trk[10], trk[11],
-                                                trk[12], trk[13], trk[14])  # fmt: skip
+                                                trk[12], trk[13][0], trk[14])  # fmt: skip
     # a vertex's offset needs the segment after it when the chain is thick
     if j < 0 or j + (1 if thick > 0.0 else 0) >= nv:
         return 0.0, 0.0, 0.0, 0.0, 0.0, np.inf, 0, 0
@@ -438,7 +438,11 @@ def walk(
         px, py = base[0], base[1]
     else:
         px, py = spt[0, 0], spt[0, 1]
-    trk = (pts, off, theta, dev, es, spt, th0, base, app_th, tp, tth, tlev, tdev, nv, thick, ln)
+    # the usable count travels in an array, so that the track is only rebuilt
+    # when the envelope's arrays grow (building it counts references on each)
+    nvb = np.zeros(1, np.int64)
+    trk = (pts, off, theta, dev, es, spt, th0, base, app_th, tp, tth, tlev, tdev, nvb, thick, ln)
+    stale = False
     seg = _segment(k, j, trk)
     a_th = seg[4]
     a_on = seg[5] <= exact and not approach
@@ -458,6 +462,7 @@ def walk(
     if a0 == 0:
         if nv == tp.shape[0]:
             tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+            stale = True
         nv = _put(tp, tth, tlev, tdev, nv, ax, ay, th0, 0, 0.0 if a_sup else np.inf, exact)
         tn[0] = nv
     phi_v = _virtual_heading(ln, pts, off, theta, es, spt, th0)
@@ -465,9 +470,11 @@ def walk(
     status = STATUS_COMPLETE
     placed = 0
     for i in range(1, n + 1):
-        usable = tn[i - 2] if i >= 2 else 0
-        trk = (pts, off, theta, dev, es, spt, th0, base, app_th, tp, tth, tlev, tdev, usable,
-               thick, ln)  # fmt: skip
+        nvb[0] = tn[i - 2] if i >= 2 else 0
+        if stale:
+            trk = (pts, off, theta, dev, es, spt, th0, base, app_th, tp, tth, tlev, tdev, nvb,
+                   thick, ln)  # fmt: skip
+            stale = False
         sk, sj, spx, spy = k, j, px, py
         # on the chain the next joint is near: further on, it would overtake itself
         limit = max_search if k < 1 else 3.0 * ln
@@ -487,6 +494,7 @@ def walk(
             if a0 >= 0:
                 if nv == tp.shape[0]:
                     tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                    stale = True
                 nv = _put(tp, tth, tlev, tdev, nv, xx, xy, phi[i], tl[i], np.inf, exact)
             tn[i] = nv
             ax, ay, a_th, a_sup = xx, xy, phi[i], False
@@ -678,6 +686,7 @@ def walk(
                 if kept:
                     if nv == tp.shape[0]:
                         tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                        stale = True
                     nv = _put(
                         tp, tth, tlev, tdev, nv, s2[2], s2[3], s2[4], s2[7],
                         0.0 if on else np.inf, exact,
@@ -690,11 +699,13 @@ def walk(
             x_dv = 0.0 if on and x_dev <= exact and not (overhang or pivot) else np.inf
             if nv == tp.shape[0]:
                 tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                stale = True
             nv = _put(tp, tth, tlev, tdev, nv, xx, xy, phi[i], x_lap, x_dv, exact)
         elif k >= 0 or x_sup:
             a0 = i
             if nv == tp.shape[0]:
                 tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                stale = True
             nv = _put(tp, tth, tlev, tdev, nv, xx, xy, th0, x_lap, 0.0 if x_sup else np.inf, exact)
         tn[i] = nv
         contact[i] = x_on
