@@ -194,7 +194,9 @@ class LineScanner:
     def _bytes_rows(self, rows: bytes | bytearray | memoryview) -> np.ndarray:
         data = self._partial + bytes(rows)
         n = len(data) // self.width
-        arr = np.frombuffer(data[: n * self.width], dtype=np.uint8).reshape(n, self.width)
+        # a writeable copy: the kernels compiled for writeable rows serve it
+        buf = bytearray(data[: n * self.width])
+        arr = np.frombuffer(buf, dtype=np.uint8).reshape(n, self.width)
         if arr.size and arr.max() > 1:
             i, j = np.argwhere(arr > 1)[0]
             hint = (
