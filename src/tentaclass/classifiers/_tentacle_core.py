@@ -327,7 +327,11 @@ def _arc_after_approach(
     heading = np.cumsum(X * direction[:, None], axis=1)
     a = offset.astype(float)
     x = a[:, None] + (np.arange(n_points + 1) / n_points) * (n - 1 - a)[:, None]
-    h = np.array([np.interp(row, np.arange(n), hr) for row, hr in zip(x, heading, strict=True)])
+    # linear interpolation of each row at its own points (np.interp, all rows at once)
+    i0 = np.clip(np.floor(x).astype(np.int64), 0, n - 2)
+    lo = np.take_along_axis(heading, i0, axis=1)
+    hi = np.take_along_axis(heading, i0 + 1, axis=1)
+    h = lo + (x - i0) * (hi - lo)
     return np.cumsum(np.diff(h, axis=1), axis=1), (h[:, -1] - h[:, 0]) / (2 * np.pi)
 
 
