@@ -7,11 +7,15 @@ compiled path must give the same JSON, byte for byte.
 
 import gzip
 import json
+import struct
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass.scanner import LineScanner, inspect_many
 from tentaclass.scanner.simulate import make_belt, make_objects
 
@@ -80,3 +84,51 @@ def test_shifted_moves_every_coordinate_and_back():
     assert [d.bbox for d in moved.defects] == [(12, -1, 14, 1)]
     assert moved.defects[0].centroid == (12.5, -0.5)
     assert moved.shifted(-10, 3) == r
+
+
+@settings(max_examples=examples(200), deadline=None)
+@given(
+    values=st.lists(st.floats(allow_nan=True, allow_infinity=True), min_size=1, max_size=20),
+    digits=st.sampled_from([3, 6, 9]),
+)
+def test_rounded_is_python_round_bit_for_bit(values, digits):
+    from tentaclass.scanner._rounding import rounded
+
+    got = rounded(np.array(values), digits).tolist()
+    want = [round(v, digits) for v in values]
+    assert [struct.pack("<d", v) for v in got] == [struct.pack("<d", v) for v in want]
+
+
+def test_rounded_near_halves_and_centroids():
+    from tentaclass.scanner._rounding import rounded
+
+    rng = np.random.default_rng(3)
+    k = rng.integers(0, 10**6, 20_000)
+    values = np.concatenate(
+        [
+            k / rng.integers(1, 500, k.size) + rng.integers(0, 5000, k.size),  # centroids
+            (k + 0.5) / 1e6,  # decimal halves at 6 digits, none exact in binary
+            k / 128.0,  # exact binary halves at 6 digits
+            -(k + 0.5) / 1e3,
+        ]
+    )
+    for digits in (3, 6, 9):
+        want = np.array([round(v, digits) for v in values.tolist()])
+        assert np.array_equal(rounded(values, digits).view(np.int64), want.view(np.int64))
+
+
+def test_scanner_records_hold_plain_python_values():
+    b = make_belt(30, width=256, lanes=4, gap=(1, 5), random_state=2, radius_range=(4.0, 20.0))
+    found = LineScanner(256).feed(b.image)
+    assert found and any(o.defects for o in found)
+
+    def plain(v):
+        if isinstance(v, tuple):
+            return all(plain(x) for x in v)
+        return type(v) in (int, float, str, bool, type(None)) or type(v).__name__ == "Defect"
+
+    for o in found:
+        r = o.inspection
+        assert all(plain(v) for v in vars(r).values()), vars(r)
+        assert all(plain(v) for d in r.defects for v in vars(d).values())
+        assert type(o.id) is int and type(o.first_row) is int

@@ -28,6 +28,7 @@ import numpy as np
 import shapely
 
 from . import _geometry as geo
+from ._rounding import rounded
 from .descriptors import (
     Geometry,
     MaskBatch,
@@ -276,14 +277,21 @@ def defect_records(
     coordinates (as :meth:`Defect.shifted` would), default none.
     """
     out: dict[int, list[Defect]] = {}
-    for (i, code, size, r0, c0, r1, c1), (cr, cc, depth) in zip(
-        ints.tolist(), floats.tolist(), strict=True
-    ):
+    if not ints.shape[0]:
+        return out
+    shift = np.zeros((ints.shape[0], 2), dtype=np.int64)
+    if tops is not None and lefts is not None:
+        shift[:, 0] = np.asarray(tops, dtype=np.int64)[ints[:, 0]]
+        shift[:, 1] = np.asarray(lefts, dtype=np.int64)[ints[:, 0]]
+    boxes = (ints[:, 3:7] + np.tile(shift, 2)).tolist()
+    centres = (floats[:, :2] + shift).tolist()
+    depths = np.where(ints[:, 1] == geo.HOLE, 0.0, rounded(floats[:, 2], 3)).tolist()
+    for i, code, size, box, centre, depth in zip(
+        ints[:, 0].tolist(), ints[:, 1].tolist(), ints[:, 2].tolist(), boxes, centres, depths,
+        strict=True,
+    ):  # fmt: skip
         name, note = _KINDS[code]
-        depth = 0.0 if code == geo.HOLE else round(depth, 3)
-        dr, dc = (0, 0) if tops is None or lefts is None else (tops[i], lefts[i])
-        box = (r0 + dr, c0 + dc, r1 + dr, c1 + dc)
-        d = new_defect(name, size, box, (cr + dr, cc + dc), depth, note.format(size))
+        d = new_defect(name, size, tuple(box), tuple(centre), depth, note.format(size))
         out.setdefault(i, []).append(d)
     group = {geo.HOLE: 0, geo.BURR: 2}
     for found in out.values():

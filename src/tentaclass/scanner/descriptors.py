@@ -56,6 +56,7 @@ from ._geometry import (
     min_area_rectangles,
     open_burrs,
 )
+from ._rounding import rounded
 
 __all__ = [
     "DESCRIPTOR_GROUPS",
@@ -306,9 +307,9 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
         coords,
         ring_starts,
         corners,
-        [round(x, 9) for x in np.where(first, l1, l2).tolist()],
-        [round(x, 9) for x in np.where(first, l2, l1).tolist()],
-        [round(x, 6) for x in angles.tolist()],
+        rounded(np.where(first, l1, l2), 9).tolist(),
+        rounded(np.where(first, l2, l1), 9).tolist(),
+        rounded(angles, 6).tolist(),
     )
 
 

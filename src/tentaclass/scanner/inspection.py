@@ -10,6 +10,7 @@ from scipy import ndimage
 
 from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
+from ._rounding import rounded
 from .defects import DefectSettings, defect_arrays, defect_records
 from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
 from .model import ScannerModel, crop, default_model
@@ -140,7 +141,7 @@ def _record(
     defects: list[Defect],
 ) -> Inspection:
     """The inspection record of a measured object; accepted when it has no defect."""
-    holes = [d for d in defects if d.kind == "hole"]
+    holes, hole_area, found, reasons = _defect_fields(defects)
     return new_inspection(
         label,
         round(confidence, 6),
@@ -150,13 +151,25 @@ def _record(
         orientation,
         length,
         width,
+        holes,
+        hole_area,
+        found,
+        not defects,
+        reasons,
+    )
+
+
+def _defect_fields(
+    defects: list[Defect],
+) -> tuple[int, int, tuple[Defect, ...], tuple[str, ...]]:
+    """Holes, their area, the defects and the reasons of a record."""
+    holes = [d for d in defects if d.kind == "hole"]
+    return (
         len(holes),
         int(sum(d.area for d in holes)),
         tuple(defects),
-        not defects,
         tuple(_reason(d) for d in defects),
     )
-
 
 def _check_options(
     model: ScannerModel | None, settings: DefectSettings | None, size_tolerance: float
@@ -203,8 +216,9 @@ def inspect_masks(
     m = measure_batch_arrays(batch)
     proba = model.predict_features_proba(model._batch_features(m))
     best = np.argmax(proba, axis=1)
-    labels = [str(x) for x in model.classes_[best].tolist()]
-    confidence = proba[np.arange(n), best].tolist()
+    names = [str(x) for x in model.classes_.tolist()]
+    labels = [names[k] for k in best.tolist()]
+    confidence = proba[np.arange(n), best]
     # the grid (or belt) in each mask's coordinates
     if isinstance(extents, np.ndarray):
         ext = extents.astype(float).reshape(n, 4)
@@ -229,28 +243,36 @@ def inspect_masks(
         return [
             _assemble(g, d, c, label, p, top, left, model, nominal_size, size_tolerance, single)
             for g, d, c, label, p, top, left in zip(
-                geoms, defects, centroids, labels, confidence, tops, lefts, strict=True
+                geoms, defects, centroids, labels, confidence.tolist(), tops, lefts, strict=True
             )
         ]
-    # the same records as _assemble gives, built in one pass
+    # the same records as _assemble gives, built in one pass: the numbers of all
+    # objects at once (rounded as Python rounds), one Python object per record
+    hw = np.stack([batch.heights, batch.widths], axis=1)
+    boxes = np.concatenate([off, off + hw], axis=1).tolist()
+    rows = rounded(m.sums[:, 0] / m.area + off[:, 0], 6).tolist()
+    cols = rounded(m.sums[:, 1] / m.area + off[:, 1], 6).tolist()
+    flawed = [False] * n
+    for i in found:
+        flawed[i] = True
     out = []
-    rows = (m.sums[:, 0] / m.area).tolist()
-    cols = (m.sums[:, 1] / m.area).tolist()
-    for i, (cr, cc, label, p, top, left, h, w, area, angle, long, short) in enumerate(zip(
-        rows, cols, labels, confidence, tops, lefts, batch.heights.tolist(),
-        batch.widths.tolist(), m.area.tolist(), m.orientation, m.length, m.width, strict=True,
+    new = object.__new__
+    for i, (label, p, box, area, cr, cc, angle, long, short, bad) in enumerate(zip(
+        labels, rounded(confidence, 6).tolist(), boxes, m.area.tolist(), rows, cols,
+        m.orientation, m.length, m.width, flawed, strict=True,
     )):  # fmt: skip
-        bbox = (top, left, top + h, left + w)
-        centroid = (round(cr + top, 6), round(cc + left, 6))
-        if i in found:
-            out.append(_record(label, p, bbox, area, centroid, angle, long, short, found[i]))
+        if bad:
+            holes, hole_area, listed, reasons = _defect_fields(found[i])
         else:
-            out.append(
-                new_inspection(
-                    label, round(p, 6), bbox, area, centroid, angle, long, short, 0, 0, (), True,
-                    (),
-                )
-            )  # fmt: skip
+            holes, hole_area, listed, reasons = 0, 0, (), ()
+        r = new(Inspection)  # new_inspection(...), without a call per object
+        r.__dict__.update(
+            {"label": label, "confidence": p, "bbox": tuple(box), "area": area,
+             "centroid": (cr, cc), "orientation": angle, "length": long, "width": short,
+             "holes": holes, "hole_area": hole_area, "defects": listed, "accept": not bad,
+             "reasons": reasons}
+        )  # fmt: skip
+        out.append(r)
     return out
 
 

@@ -35,7 +35,7 @@ from .defects import DefectSettings
 from .descriptors import MaskBatch, measure
 from .inspection import NominalSize, _check_options, _placement, _record, inspect_masks
 from .model import ScannerModel
-from .records import Defect, Inspection, ScannedObject, new_scanned
+from .records import Defect, Inspection, ScannedObject
 from .threshold import Threshold, belt_levels, check_options, choose_threshold
 
 __all__ = ["LineScanner"]
@@ -570,10 +570,13 @@ class LineScanner:
             inspections = [next(inspected) if w else next(tall) for w in whole.tolist()]
         records = []
         i = self.n_emitted
+        new = object.__new__
         for insp, first, last in zip(
             inspections, out[:, 1].tolist(), out[:, 2].tolist(), strict=True
         ):
-            records.append(new_scanned(i, first, last, insp))
+            r = new(ScannedObject)  # new_scanned(...), without a call per object
+            r.__dict__.update({"id": i, "first_row": first, "last_row": last, "inspection": insp})
+            records.append(r)
             i += 1
         self.n_emitted = i
         return records
