@@ -478,23 +478,39 @@ HOLE, TRUNCATED, BROKEN_CORNER, BITE, BURR = range(5)
 
 
 @nb.njit(**_OPTS)
+def _circle_radius(ring, circle):
+    """Radius of the circle centred at ``circle`` through the farthest point of ``ring``."""
+    r = -np.inf
+    for k in range(ring.shape[0]):
+        r = max(r, np.hypot(ring[k, 0] - circle[0], ring[k, 1] - circle[1]))
+    return r
+
+
+@nb.njit(**_OPTS)
+def _circle_distance(r, circle, row, col):
+    """Signed distance of the point ``(row, col)`` to the circle (> 0 inside)."""
+    return r - np.hypot(col - circle[0], row - circle[1])
+
+
+@nb.njit(**_OPTS)
 def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
     """Signed distance of each canvas pixel centre to a convex outline (> 0 inside).
 
     ``kind`` 2: a circle centred at ``circle`` through the farthest point of
-    ``ring``; else the polygon ``ring`` (closed, counter-clockwise): exact
-    inside, outside the distance to the farthest edge line (mitre-style),
-    which keeps corners sharp.
+    ``ring``, to within 1e-12 (a square root for :func:`_circle_distance`'s
+    :func:`numpy.hypot`); else the polygon ``ring`` (closed,
+    counter-clockwise): exact inside, outside the distance to the farthest
+    edge line (mitre-style), which keeps corners sharp.
     """
     sd = np.empty((h, w))
     if kind == 2:
         cx, cy = circle[0], circle[1]
-        r = -np.inf
-        for k in range(ring.shape[0]):
-            r = max(r, np.hypot(ring[k, 0] - cx, ring[k, 1] - cy))
+        r = _circle_radius(ring, circle)
         for i in range(h):
+            dy = float(i) + lo0 - cy
             for j in range(w):
-                sd[i, j] = r - np.hypot(float(j) + lo1 - cx, float(i) + lo0 - cy)
+                dx = float(j) + lo1 - cx
+                sd[i, j] = r - np.sqrt(dx * dx + dy * dy)
         return sd
     m = ring.shape[0] - 1
     c = np.empty(m)
@@ -568,17 +584,44 @@ def defect_groups(
             ch, cw = canvas[i, 0], canvas[i, 1]
             a, b = ring_starts[i], ring_starts[i + 1]
             sd = _signed_distance(kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw)
+            outer = -(1.0 + margin)
+            radius = 0.0
+            if kind[i] == 2:
+                # the circle's distances exact (np.hypot) wherever a comparison could
+                # turn on the last bits; those of extra pixels are fixed below
+                radius = _circle_radius(rings[a:b], circles[i])
+                for y in range(ch):
+                    for x in range(cw):
+                        v = sd[y, x]
+                        if abs(v - margin) < 1e-9 or abs(v - outer) < 1e-9:
+                            sd[y, x] = _circle_distance(
+                                radius, circles[i], float(y + lo[i, 0]), float(x + lo[i, 1])
+                            )
             missing = np.empty((ch, cw), dtype=np.bool_)
-            extra = np.empty((ch, cw), dtype=np.bool_)
+            extra = np.zeros((ch, cw), dtype=np.bool_)
+            n_missing = 0
+            n_extra = 0
+            # the canvas columns that fall in the mask
+            x0 = min(max(-lo[i, 1], 0), cw)
+            x1 = max(min(w - lo[i, 1], cw), x0)
             for y in range(ch):
                 r = y + lo[i, 0]
+                inside = 0 <= r < h
                 for x in range(cw):
-                    c = x + lo[i, 1]
-                    inside = 0 <= r < h and 0 <= c < w
-                    missing[y, x] = sd[y, x] >= margin and not (inside and f[r, c])
-                    extra[y, x] = inside and m[r, c] and sd[y, x] < -(1.0 + margin)
-                    found[1] += missing[y, x]
-                    found[2] += extra[y, x]
+                    hit = sd[y, x] >= margin
+                    if inside and x0 <= x < x1:
+                        c = x + lo[i, 1]
+                        hit = hit and not f[r, c]
+                        out = m[r, c] and sd[y, x] < outer
+                        if out:
+                            if kind[i] == 2:
+                                sd[y, x] = _circle_distance(radius, circles[i], float(r), float(c))
+                            extra[y, x] = True
+                            n_extra += 1
+                    missing[y, x] = hit
+                    n_missing += hit
+            found[1] = n_missing
+            found[2] = n_extra
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
