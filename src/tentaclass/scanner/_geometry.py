@@ -540,6 +540,31 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
 
 
 @nb.njit(**_OPTS)
+def _edge_pixels(f):
+    """Rows and columns of the pixels of ``f`` with a 4-neighbour outside it (or the grid)."""
+    h, w = f.shape
+    ys = np.empty(h * w, dtype=np.int64)
+    xs = np.empty(h * w, dtype=np.int64)
+    n = 0
+    for y in range(h):
+        for x in range(w):
+            if f[y, x] and (
+                y == 0
+                or x == 0
+                or y == h - 1
+                or x == w - 1
+                or not f[y - 1, x]
+                or not f[y + 1, x]
+                or not f[y, x - 1]
+                or not f[y, x + 1]
+            ):
+                ys[n] = y
+                xs[n] = x
+                n += 1
+    return ys, xs, n
+
+
+@nb.njit(**_OPTS)
 def defect_groups(
     flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts, vert_lo,
     vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
@@ -622,6 +647,9 @@ def defect_groups(
                     n_missing += hit
             found[1] = n_missing
             found[2] = n_extra
+        n_edge = -1  # the filled mask's edge pixels, found when first needed
+        edge_y = np.empty(0, dtype=np.int64)
+        edge_x = np.empty(0, dtype=np.int64)
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
@@ -648,15 +676,16 @@ def defect_groups(
                 code = HOLE
                 if group == 1:
                     # how far the gap reaches from the remaining material (the
-                    # exact Euclidean distance transform of ~filled, at its maximum)
+                    # exact Euclidean distance transform of ~filled, at its maximum);
+                    # the nearest material pixel is always one on its edge
+                    if n_edge < 0:
+                        edge_y, edge_x, n_edge = _edge_pixels(f)
                     for p in range(a, b):
                         best = np.inf
-                        for y in range(h):
-                            for x in range(w):
-                                if f[y, x]:
-                                    dy = rr[p] - (y - lo0)
-                                    dx = cc[p] - (x - lo1)
-                                    best = min(best, float(dy * dy + dx * dx))
+                        for e in range(n_edge):
+                            dy = rr[p] - (edge_y[e] - lo0)
+                            dx = cc[p] - (edge_x[e] - lo1)
+                            best = min(best, float(dy * dy + dx * dx))
                         depth = max(depth, np.sqrt(best))
                 elif group == 2:
                     depth = np.inf
