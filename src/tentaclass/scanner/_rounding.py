@@ -26,6 +26,8 @@ def rounded(values: np.ndarray, digits: int) -> np.ndarray:
     True
     """
     x = np.asarray(values, dtype=np.float64)
+    if x.size <= 16:  # fewer calls than the array operations below
+        return np.array([round(v, digits) for v in x.ravel().tolist()]).reshape(x.shape)
     scale = 10.0**digits
     with np.errstate(over="ignore", invalid="ignore"):
         y = x * scale
