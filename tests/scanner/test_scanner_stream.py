@@ -7,6 +7,7 @@ from strategies import examples
 from tentaclass.errors import InputError
 from tentaclass.scanner import LineScanner
 from tentaclass.scanner.simulate import make_belt
+from tentaclass.scanner.stream import _words
 
 
 def scan(image, chunk, **kwargs):
@@ -246,3 +247,30 @@ def test_latency_with_chunks_and_grey_rows(belt, whole, chunk):
     ref = [o.to_dict() for o in scan(grey, grey.shape[0])]
     assert [o.to_dict() for o in scan(grey, chunk, latency=10)] == ref
     assert [(o["bbox"], o["area"]) for o in ref] == [(o["bbox"], o["area"]) for o in whole]
+
+
+@settings(max_examples=examples(15), deadline=None)
+@given(seed=st.integers(0, 10_000), density=st.sampled_from([0.02, 0.3, 0.7]))
+def test_binary_rows_read_by_words_or_by_pixels_give_the_same_objects(seed, density):
+    from scipy import ndimage
+
+    # runs starting and ending on and off 8-pixel words, empty and full words
+    rng = np.random.default_rng(seed)
+    wide = rng.random((40, 81)) < density
+    wide[rng.integers(0, 40, 6)] = False
+    wide[rng.integers(0, 40, 3), 8:40] = True
+    aligned = np.ascontiguousarray(wide[:, 1:65])  # whole 64-bit words per row
+    shifted = wide[:, 1:65]  # rows 81 bytes apart: read pixel by pixel
+    as_bytes = aligned.view(np.uint8).tobytes()
+    results = [
+        [o.to_dict() for o in LineScanner(64, max_height=64).scan(rows)]
+        for rows in ([aligned], aligned, [shifted], shifted, [as_bytes], [aligned.astype(int)])
+    ]
+    assert all(r == results[0] for r in results[1:])
+    # every 8-connected piece is one object, every pixel in one
+    n_pieces = ndimage.label(aligned, np.ones((3, 3), dtype=bool))[1]
+    assert len(results[0]) == n_pieces
+    assert sum(o["area"] for o in results[0]) == int(aligned.sum())
+    # the two reading paths were both taken
+    assert _words(aligned.view(np.uint8)).shape == (40, 8)
+    assert _words(shifted.view(np.uint8)).size == 0

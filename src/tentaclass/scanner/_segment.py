@@ -146,7 +146,7 @@ def _finish(labs, runs, st, prev, r, min_area, out, out_runs, done):
 
 @nb.njit(**_OPTS)
 def scan_rows(
-    img, r0, mode, dark, level, contrast, rate, bg, max_height, min_area, final,
+    img, words, r0, mode, dark, level, contrast, rate, bg, max_height, min_area, final,
     st, prev, cur, labs, runs, out, out_runs, done,
 ):  # fmt: skip
     """Process rows of ``img`` (global row numbers from ``r0``); return rows done.
@@ -154,10 +154,13 @@ def scan_rows(
     ``mode`` 0: object where the value is non-zero (binary), 1: beyond the
     fixed ``level``, 2: beyond ``bg[col]`` by more than ``contrast``, ``bg``
     following the belt (updated by ``rate`` where no object is seen). ``dark``
-    flips the side. With ``final``, the objects still open after the last row
-    are output instead (``img`` is ignored).
+    flips the side. ``words``: for mode 0, the same rows as 64-bit words (an
+    all-zero word is skipped at once), or an empty array. With ``final``, the
+    objects still open after the last row are output instead (``img`` is
+    ignored).
     """
     width = bg.shape[0]
+    per_word = width // words.shape[1] if words.shape[0] else 0
     per_row = width // 2 + 1
     if final:
         _finish(labs, runs, st, prev, r0, min_area, out, out_runs, done)
@@ -177,7 +180,24 @@ def scan_rows(
         # threshold and run-length encode the row
         ncur = 0
         inside = False
-        for c in range(width):
+        if mode == 0:
+            c = 0
+            while c < width:
+                if per_word:
+                    while c < width and c % per_word and img[i, c] == 0:
+                        c += 1
+                    while c + per_word <= width and words[i, c // per_word] == 0:
+                        c += per_word
+                while c < width and img[i, c] == 0:
+                    c += 1
+                if c == width:
+                    break
+                cur[ncur, 0] = c
+                while c < width and img[i, c] != 0:
+                    c += 1
+                cur[ncur, 1] = c
+                ncur += 1
+        for c in range(width if mode != 0 else 0):
             v = img[i, c]
             if mode == 0:
                 on = v != 0

@@ -44,6 +44,22 @@ _KERNEL_DTYPES = (np.uint8, np.uint16, np.float32, np.float64)
 _MODES = {"binary": 0, "fixed": 1, "adaptive": 2}
 
 
+_NO_WORDS = np.zeros((0, 0), dtype=np.uint64)
+
+
+def _words(rows: np.ndarray) -> np.ndarray:
+    """Binary rows of bytes as 64-bit words, for the kernel to skip empty stretches (if aligned)."""
+    if (
+        rows.dtype != np.uint8
+        or rows.shape[1] % 8
+        or rows.strides[1] != 1
+        or rows.strides[0] % 8
+        or rows.ctypes.data % 8
+    ):
+        return _NO_WORDS
+    return rows.view(np.uint64)
+
+
 class LineScanner:
     """Find, classify and inspect objects in rows streamed from a line sensor.
 
@@ -485,9 +501,10 @@ class LineScanner:
             dark = False
         start, n = 0, arr.shape[0]
         while True:
+            rows = arr[start:] if start else arr
             done = seg.scan_rows(
-                arr[start:] if start else arr, self._done_rows, mode, dark, level, contrast,
-                rate, self._bg, self.max_height, self.min_area, final,
+                rows, _words(rows) if mode == 0 else _NO_WORDS, self._done_rows, mode, dark,
+                level, contrast, rate, self._bg, self.max_height, self.min_area, final,
                 p["st"], p["prev"], p["cur"], p["labs"], p["runs"], p["out"], p["out_runs"],
                 p["done"],
             )  # fmt: skip
