@@ -399,6 +399,31 @@ def measure_batch(flat, starts, heights, widths):
 
 
 @nb.njit(**_OPTS)
+def rectangle_sides(corners):
+    """Long and short side of each rectangle ``(n, 5, 2)``, and the long side as a vector.
+
+    Of the first two sides (from corner 0 to 1, and 1 to 2) the first is the
+    long one when the lengths tie.
+    """
+    n = corners.shape[0]
+    long = np.empty(n)
+    short = np.empty(n)
+    edge = np.empty((n, 2))
+    for i in range(n):
+        ax = corners[i, 1, 0] - corners[i, 0, 0]
+        ay = corners[i, 1, 1] - corners[i, 0, 1]
+        bx = corners[i, 2, 0] - corners[i, 1, 0]
+        by = corners[i, 2, 1] - corners[i, 1, 1]
+        l1 = np.hypot(ax, ay)
+        l2 = np.hypot(bx, by)
+        if l1 >= l2:
+            long[i], short[i], edge[i, 0], edge[i, 1] = l1, l2, ax, ay
+        else:
+            long[i], short[i], edge[i, 0], edge[i, 1] = l2, l1, bx, by
+    return long, short, edge
+
+
+@nb.njit(**_OPTS)
 def triangle_search(normal, c, theta, ph_correct, length, starts):
     """Smallest triangle on hull edge lines for each ragged group of edges.
 

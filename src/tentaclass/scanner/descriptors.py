@@ -55,6 +55,7 @@ from ._geometry import (
     measure_batch,
     min_area_rectangles,
     open_burrs,
+    rectangle_sides,
 )
 from ._rounding import rounded
 
@@ -200,13 +201,6 @@ def rectangles_of_rings(
     return corners, polygons_from_rings(corners.reshape(5 * n, 2), np.arange(0, 5 * n + 1, 5))
 
 
-def _rectangle_sides(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """First four corners of each rectangle, and the lengths of its first two sides."""
-    xy = corners[:, :4]
-    d1, d2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1]
-    return xy, np.hypot(d1[:, 0], d1[:, 1]), np.hypot(d2[:, 0], d2[:, 1])
-
-
 def take_rings(
     coords: np.ndarray, starts: np.ndarray, select: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -274,12 +268,11 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
     flat, starts, heights, widths = batch[:4]
     filled_flat, coords, ring_starts, areas, sums = measure_batch(flat, starts, heights, widths)
     corners = min_area_rectangles(coords, ring_starts)
-    xy, l1, l2 = _rectangle_sides(corners)
+    long, short, edge = rectangle_sides(corners)
     # Thin burrs would stretch the hull: objects wide enough for an opening
     # (see opening_radius) are measured without what it removes, if that
     # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
-    wide = [i for i in np.flatnonzero(np.minimum(l1, l2) >= 12).tolist()
-            if opening_radius(min(float(l1[i]), float(l2[i])))]  # fmt: skip
+    wide = [i for i in np.flatnonzero(short >= 12).tolist() if opening_radius(float(short[i]))]
     core_flat, changed, opened, opened_starts = open_burrs(
         filled_flat, starts, heights, widths, np.array(wide, dtype=np.int64), coords, ring_starts
     )
@@ -294,11 +287,9 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
         put_rings(new, new_starts, np.flatnonzero(changed), opened, opened_starts)
         coords, ring_starts = new, new_starts
         corners[changed] = min_area_rectangles(opened, opened_starts)
-        xy[changed], l1[changed], l2[changed] = _rectangle_sides(corners[changed])
-    first = l1 >= l2
-    long_edge = np.where(first[:, None], xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 1])
+        long[changed], short[changed], edge[changed] = rectangle_sides(corners[changed])
     # rows grow downwards, so the on-screen angle uses -dy
-    angles = np.remainder(np.degrees(np.arctan2(-long_edge[:, 1], long_edge[:, 0])), 180.0)
+    angles = np.remainder(np.degrees(np.arctan2(-edge[:, 1], edge[:, 0])), 180.0)
     angles[angles > 180.0 - 1e-9] = 0.0
     return Measures(
         batch._replace(filled=filled_flat, core=core_flat),
@@ -307,8 +298,8 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
         coords,
         ring_starts,
         corners,
-        rounded(np.where(first, l1, l2), 9).tolist(),
-        rounded(np.where(first, l2, l1), 9).tolist(),
+        rounded(long, 9).tolist(),
+        rounded(short, 9).tolist(),
         rounded(angles, 6).tolist(),
     )
 
