@@ -6,7 +6,7 @@ import pytest
 from tentaclass.datasets import thesis_scanner
 from tentaclass.errors import InputError
 from tentaclass.scanner import DEFECT_KINDS, DefectSettings, Inspection, inspect, inspect_many
-from tentaclass.scanner.simulate import draw_shape
+from tentaclass.scanner.simulate import draw_shape, make_objects
 
 THESIS = thesis_scanner()
 
@@ -167,3 +167,19 @@ def test_learned_nominal_size():
 def test_ragged_grid_names_the_argument():
     with pytest.raises(InputError, match="grid must be a rectangular array"):
         inspect([[0, 1, 1], [1, 1]])
+
+
+def test_large_batches_restore_the_blas_threads_and_match_small_ones():
+    from threadpoolctl import threadpool_info
+
+    from tentaclass.scanner.model import _ONE_THREAD_MIN_ROWS
+
+    grids = make_objects(
+        _ONE_THREAD_MIN_ROWS + 6, shape=(24, 24), radius_range=(4.0, 10.0),
+        damaged_fraction=0.5, random_state=8,
+    ).grids  # fmt: skip
+    before = [(i["filepath"], i["num_threads"]) for i in threadpool_info()]
+    whole = inspect_many(grids)  # one batch, BLAS on one thread meanwhile
+    assert [(i["filepath"], i["num_threads"]) for i in threadpool_info()] == before
+    halves = inspect_many(grids[:35]) + inspect_many(grids[35:])  # below the limit
+    assert whole == halves

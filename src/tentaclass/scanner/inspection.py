@@ -10,10 +10,11 @@ from scipy import ndimage
 
 from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
+from ..features.fourier import _blas_controller
 from ._rounding import rounded
 from .defects import DefectSettings, defect_arrays, defect_records
 from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
-from .model import ScannerModel, crop, default_model
+from .model import _ONE_THREAD_MIN_ROWS, ScannerModel, crop, default_model
 from .records import Defect, Inspection, new_inspection
 
 __all__ = ["NominalSize", "inspect", "inspect_many"]
@@ -214,7 +215,13 @@ def inspect_masks(
     tops, lefts = off[:, 0].tolist(), off[:, 1].tolist()
     batch = flat if flat is not None else flatten_masks(masks or [])
     m = measure_batch_arrays(batch)
-    proba = model.predict_features_proba(model._batch_features(m))
+    if n >= _ONE_THREAD_MIN_ROWS:
+        # thin products (features, the classifier's distances): BLAS threads only
+        # cost here (ten times over on a busy machine)
+        with _blas_controller().limit(limits=1, user_api="blas"):
+            proba = model.predict_features_proba(model._batch_features(m))
+    else:  # too small for BLAS to start its threads
+        proba = model.predict_features_proba(model._batch_features(m))
     best = np.argmax(proba, axis=1)
     names = [str(x) for x in model.classes_.tolist()]
     labels = [names[k] for k in best.tolist()]

@@ -27,6 +27,7 @@ from .._thesis_data import scanner_training_grids
 from .._validation import as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
+from ..features.fourier import _blas_controller
 from .descriptors import (
     DESCRIPTOR_GROUPS,
     Geometry,
@@ -38,6 +39,9 @@ from .descriptors import (
 )
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "ScannerModel", "default_model"]
+
+#: From this many rows on, the classifier runs with BLAS on one thread.
+_ONE_THREAD_MIN_ROWS = 64
 
 FORMAT_NAME = "tentaclass-scanner-model"
 """Value of ``format`` in the metadata of the former ``.npz`` model files."""
@@ -211,7 +215,12 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         """Class probabilities from a descriptor matrix (columns in :attr:`classes_` order)."""
         if not hasattr(self, "classifier_"):  # (check_is_fitted costs more than a small batch)
             check_is_fitted(self)
-        proba = self.classifier_.predict_proba(X)
+        if X.shape[0] >= _ONE_THREAD_MIN_ROWS:
+            # the classifier's products are thin: BLAS threads only cost here
+            with _blas_controller().limit(limits=1, user_api="blas"):
+                proba = self.classifier_.predict_proba(X)
+        else:
+            proba = self.classifier_.predict_proba(X)
         order = np.searchsorted(self.classes_, self.classifier_.classes_)
         out = np.zeros((X.shape[0], self.classes_.size))
         out[:, order] = proba
