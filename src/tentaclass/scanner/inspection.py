@@ -172,6 +172,7 @@ def _defect_fields(
         tuple(_reason(d) for d in defects),
     )
 
+
 def _check_options(
     model: ScannerModel | None, settings: DefectSettings | None, size_tolerance: float
 ) -> tuple[ScannerModel, DefectSettings, float]:
