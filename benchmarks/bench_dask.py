@@ -13,8 +13,10 @@ Three jobs, each timed on both clusters in turn (min of interleaved repeats):
   the predict job alone on fresh workers);
 - scanning belts: ``scan --files`` over 20 belt PBM files.
 
-Workers run one thread each, and distributed starts them with
-OMP/MKL/OPENBLAS_NUM_THREADS=1 (its default ``pre-spawn-environ``); the
+The clusters are the ones ``--scheduler local`` starts
+(``tentaclass._dask.local_cluster``): worker processes of one thread each,
+started with OMP/MKL/OPENBLAS_NUM_THREADS=1 (distributed's default
+``pre-spawn-environ``) and glibc's malloc thresholds at 32 MiB; the
 driver's BLAS is pinned to one thread with threadpoolctl. The machine's load
 average is printed before and after: other processes on the cores spoil the
 2-worker figure first. Run::
@@ -27,7 +29,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import os
 import shutil
 import tempfile
@@ -40,10 +41,11 @@ import numpy as np
 import psutil
 import pyarrow as pa
 import pyarrow.parquet as pq
-from distributed import Client, LocalCluster
+from distributed import Client
 from threadpoolctl import threadpool_limits
 
 import tentaclass as tc
+from tentaclass._dask import local_cluster
 from tentaclass.cli._files import classify_files, scan_files
 from tentaclass.datasets import reference_tentacle
 from tentaclass.scanner.io import write_pbm
@@ -190,13 +192,7 @@ def main() -> None:
 
     clusters = {}
     for k in (1, 2):
-        cluster = LocalCluster(
-            n_workers=k,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=logging.ERROR,
-        )
+        cluster = local_cluster(k)
         client = Client(cluster)
         client.run(lambda: __import__("tentaclass.cli.main"))
         clusters[k] = (cluster, client)
