@@ -8,9 +8,11 @@ Three jobs, each timed on both clusters in turn (min of interleaved repeats):
   streamed two ways: ``classify --files`` (one task per file, record batches
   of 65 536 arrays, label files written) and the library path
   (``read_parquet_rows`` -> ``FourierClassifier.predict`` on the dask array
-  -> class counts). The peak RSS of every worker process is sampled every
-  50 ms (workers that have run every job; ``bench_dask_memory.py`` measures
-  the predict job alone on fresh workers);
+  -> class counts, as one reduction per class, and as one reduction of all
+  the counts: "predict, one count", one task per row group). The peak RSS
+  of every worker process is sampled every 50 ms (workers that have run
+  every job; ``bench_dask_memory.py`` measures the predict job alone on
+  fresh workers);
 - scanning belts: ``scan --files`` over 20 belt PBM files.
 
 The clusters are the ones ``--scheduler local`` starts
@@ -179,6 +181,11 @@ def main() -> None:
         counts = client.compute([(labels == c).sum() for c in model.classes_], sync=True)
         return int(sum(counts))
 
+    def predict_lib_one(client):
+        labels = model.predict(tc.read_parquet_rows(parquet))
+        counts = da.equal.outer(labels, model.classes_).sum(axis=0)
+        return int(client.compute(counts, sync=True).sum())
+
     def scan(client, out):
         shutil.rmtree(out, ignore_errors=True)
         done = scan_files(
@@ -216,10 +223,11 @@ def main() -> None:
                 ("wraps", lambda c=client: wraps(c)),
                 ("classify --files", lambda c=client, k=k: classify_cli(c, args.workdir / f"o{k}")),
                 ("predict (library)", lambda c=client: predict_lib(c)),
+                ("predict, one count", lambda c=client: predict_lib_one(c)),
                 ("scan --files", lambda c=client, k=k: scan(c, args.workdir / f"s{k}")),
             ]
             for job, run in jobs:
-                big = job in ("classify --files", "predict (library)")
+                big = job in ("classify --files", "predict (library)", "predict, one count")
                 if rep >= (args.big_repeat if big else args.repeat):
                     continue
                 mon = RssMonitor(client)
@@ -248,6 +256,7 @@ def main() -> None:
         "wraps": ("wraps/s", args.wraps),
         "classify --files": ("arrays/s", cli_arrays),
         "predict (library)": ("arrays/s", args.arrays),
+        "predict, one count": ("arrays/s", args.arrays),
         "scan --files": ("belt rows/s", counts["scan --files"][0]),
     }
     rows = []

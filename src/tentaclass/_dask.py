@@ -570,7 +570,9 @@ def scheduler(
 def _read_row_group(path: str, group: int, columns: list[str], dtype: np.dtype) -> np.ndarray:
     import pyarrow.parquet as pq
 
-    table = pq.ParquetFile(path).read_row_group(group, columns=columns)
+    # one thread: a worker runs one task per core already, and pyarrow's own
+    # threads would take the next worker's core (and keep a heap each, ~50 MiB)
+    table = pq.ParquetFile(path).read_row_group(group, columns=columns, use_threads=False)
     out = np.empty((table.num_rows, len(columns)), dtype)
     for j, column in enumerate(table.columns):
         lo = 0
