@@ -392,6 +392,15 @@ def test_files_of_another_chain_length(client, data, tmp_path):
     assert not (tmp_path / "out").exists()  # refused before any work
 
 
+def test_map_files_twice_with_the_same_arguments(client):
+    """Back-to-back calls sharing an argument each get it (no call loses the other's copy)."""
+    job = "{} -> {} with {}".format
+    ins, outs = ["a", "b"], ["A", "B"]
+    for _ in range(4):
+        got = _dask.map_files(job, ins, outs, 5, client=client, progress=False)
+        assert got == ["a -> A with 5", "b -> B with 5"]
+
+
 def test_failing_file_leaves_no_output(client, data, tmp_path, monkeypatch):
     """A file that fails half way: its output never appears, not even in part."""
     _, _, Xn = data

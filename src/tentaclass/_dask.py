@@ -776,7 +776,9 @@ def map_files(
     from distributed import progress as dask_progress
     from distributed.scheduler import KilledWorker
 
-    shared = [client.scatter(a, broadcast=True) for a in args]
+    # a key of its own per call: a previous call's copy of the same value may still be
+    # on its way out of the cluster as this call starts
+    shared = [client.scatter(a, broadcast=True, hash=False) for a in args]
     futures = client.map(job, list(inputs), list(outputs), *[[s] * len(inputs) for s in shared],
                          pure=False)  # fmt: skip
     try:
