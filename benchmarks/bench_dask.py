@@ -99,7 +99,8 @@ class RssMonitor:
         self.procs = [psutil.Process(p) for p in client.run(os.getpid).values()]
         self.peak_one = self.peak_sum = self.peak_uss = 0
         self.idle = sum(p.memory_info().rss for p in self.procs)
-        self.cpu = 0.0
+        self.cpu = self.driver_cpu = 0.0
+        self._driver = psutil.Process()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
 
@@ -125,8 +126,12 @@ class RssMonitor:
     def _cpu(self) -> float:
         return sum(sum(p.cpu_times()[:2]) for p in self.procs)
 
+    def _driver_cpu(self) -> float:
+        return sum(self._driver.cpu_times()[:2])
+
     def __enter__(self) -> RssMonitor:
         self.cpu = -self._cpu()
+        self.driver_cpu = -self._driver_cpu()
         self._thread.start()
         return self
 
@@ -134,6 +139,7 @@ class RssMonitor:
         self._stop.set()
         self._thread.join()
         self.cpu += self._cpu()
+        self.driver_cpu += self._driver_cpu()
 
 
 def main() -> None:
@@ -215,6 +221,7 @@ def main() -> None:
     times: dict[tuple[str, int], float] = {}
     rss: dict[tuple[str, int], tuple[int, int]] = {}
     cpu: dict[tuple[str, int], float] = {}
+    driver: dict[tuple[str, int], float] = {}
     counts = {}
     for rep in range(max(args.repeat, args.big_repeat)):
         for k in (1, 2):
@@ -236,7 +243,7 @@ def main() -> None:
                     counts[job] = run()
                 dt = time.perf_counter() - t
                 if dt < times.get((job, k), np.inf):
-                    times[job, k], cpu[job, k] = dt, mon.cpu
+                    times[job, k], cpu[job, k], driver[job, k] = dt, mon.cpu, mon.driver_cpu
                 if job != "wraps":
                     old = rss.get((job, k), (0, 0, 0, 0))
                     rss[job, k] = (
@@ -246,7 +253,9 @@ def main() -> None:
                         mon.idle,
                     )
                 print(
-                    f"{job:<18} {k} worker(s): {dt:7.2f} s, worker CPU {mon.cpu:7.2f} s", flush=True
+                    f"{job:<18} {k} worker(s): {dt:7.2f} s, worker CPU {mon.cpu:7.2f} s, "
+                    f"driver CPU {mon.driver_cpu:6.2f} s",
+                    flush=True,
                 )
     for cluster, client in clusters.values():
         client.close()
@@ -275,6 +284,8 @@ def main() -> None:
                 "seconds_2": times[job, 2],
                 "worker_cpu_seconds_1": cpu[job, 1],
                 "worker_cpu_seconds_2": cpu[job, 2],
+                "driver_cpu_seconds_1": driver[job, 1],
+                "driver_cpu_seconds_2": driver[job, 2],
                 "rate_per_cpu_second": n / cpu[job, 1],
                 "cpu_share_2": cpu[job, 2] / (2 * times[job, 2]),
                 "peak_rss_worker_MiB": None if mem is None else mem[0] / 2**20,
@@ -286,10 +297,11 @@ def main() -> None:
     print(f"\nload average before {load_before}, after {load_after}, cores {os.cpu_count()}")
     print(f"check counts: {counts}")
     print(
-        "\n| job | size | 1 worker | 2 workers | ratio | worker CPU s, 1 / 2 | CPU share, 2 "
+        "\n| job | size | 1 worker | 2 workers | ratio | worker CPU s, 1 / 2 "
+        "| driver CPU s, 1 / 2 | CPU share, 2 "
         "| per CPU-second | 2 workers: peak RSS one / all (idle all), peak USS all |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         mem = (
             "-"
@@ -301,6 +313,7 @@ def main() -> None:
             f"| {r['job']} | {r['n']:,} | {r['rate_1']:,.0f} {r['unit']} | "
             f"{r['rate_2']:,.0f} {r['unit']} | {r['ratio']:.2f}x | "
             f"{r['worker_cpu_seconds_1']:.1f} / {r['worker_cpu_seconds_2']:.1f} | "
+            f"{r['driver_cpu_seconds_1']:.2f} / {r['driver_cpu_seconds_2']:.2f} | "
             f"{r['cpu_share_2']:.0%} | {r['rate_per_cpu_second']:,.0f} | {mem} |"
         )
     if args.json is not None:
