@@ -571,7 +571,7 @@ def _read_row_group(path: str, group: int, columns: list[str], dtype: np.dtype) 
     import pyarrow.parquet as pq
 
     # one thread: a worker runs one task per core already, and pyarrow's own
-    # threads would take the next worker's core (and keep a heap each, ~50 MiB)
+    # threads would take the next worker's core
     table = pq.ParquetFile(path).read_row_group(group, columns=columns, use_threads=False)
     out = np.empty((table.num_rows, len(columns)), dtype)
     for j, column in enumerate(table.columns):
@@ -704,8 +704,9 @@ def read_parquet_rows(
     if not blocks:
         return da.empty((0, len(columns)), dtype=dtype)
     name = "read-parquet-rows-" + tokenize(files, stamps, columns, dtype.str)
-    # a Blockwise layer (not a dict of tasks): the task that uses a block, such as
-    # an estimator's predict, is fused with its read into one task per row group
+    # a Blockwise layer that names its row groups: element-wise work on it fuses
+    # with the reads, and a row method (predict, transform, ...) reads each row
+    # group in its own task (apply_rows finds the row groups here)
     where = _row_groups_class()({(i, 0): spec for i, spec in enumerate(blocks)}, columns, dtype)
     layer = core_blockwise(
         _read_block, name, "ij", where, "ij", columns, None, dtype, None,
