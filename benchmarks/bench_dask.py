@@ -8,13 +8,17 @@ Three jobs, each timed on both clusters in turn (min of interleaved repeats):
   streamed two ways: ``classify --files`` (one task per file, record batches
   of 65 536 arrays, label files written) and the library path
   (``read_parquet_rows`` -> ``FourierClassifier.predict`` on the dask array
-  -> class counts). The peak RSS of every worker process is sampled every
-  50 ms (workers that have run every job; ``bench_dask_memory.py`` measures
-  the predict job alone on fresh workers);
+  -> class counts, as one reduction per class, and as one reduction of all
+  the counts: "predict, one count", one task per row group). The peak RSS
+  of every worker process is sampled every 50 ms (workers that have run
+  every job; ``bench_dask_memory.py`` measures the predict job alone on
+  fresh workers);
 - scanning belts: ``scan --files`` over 20 belt PBM files.
 
-Workers run one thread each, and distributed starts them with
-OMP/MKL/OPENBLAS_NUM_THREADS=1 (its default ``pre-spawn-environ``); the
+The clusters are the ones ``--scheduler local`` starts
+(``tentaclass._dask.local_cluster``): worker processes of one thread each,
+started with OMP/MKL/OPENBLAS_NUM_THREADS=1 (distributed's default
+``pre-spawn-environ``) and glibc's malloc thresholds at 32 MiB; the
 driver's BLAS is pinned to one thread with threadpoolctl. The machine's load
 average is printed before and after: other processes on the cores spoil the
 2-worker figure first. Run::
@@ -27,7 +31,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import logging
 import os
 import shutil
 import tempfile
@@ -40,10 +43,11 @@ import numpy as np
 import psutil
 import pyarrow as pa
 import pyarrow.parquet as pq
-from distributed import Client, LocalCluster
+from distributed import Client
 from threadpoolctl import threadpool_limits
 
 import tentaclass as tc
+from tentaclass._dask import local_cluster
 from tentaclass.cli._files import classify_files, scan_files
 from tentaclass.datasets import reference_tentacle
 from tentaclass.scanner.io import write_pbm
@@ -95,7 +99,8 @@ class RssMonitor:
         self.procs = [psutil.Process(p) for p in client.run(os.getpid).values()]
         self.peak_one = self.peak_sum = self.peak_uss = 0
         self.idle = sum(p.memory_info().rss for p in self.procs)
-        self.cpu = 0.0
+        self.cpu = self.driver_cpu = 0.0
+        self._driver = psutil.Process()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._run, daemon=True)
 
@@ -121,8 +126,12 @@ class RssMonitor:
     def _cpu(self) -> float:
         return sum(sum(p.cpu_times()[:2]) for p in self.procs)
 
+    def _driver_cpu(self) -> float:
+        return sum(self._driver.cpu_times()[:2])
+
     def __enter__(self) -> RssMonitor:
         self.cpu = -self._cpu()
+        self.driver_cpu = -self._driver_cpu()
         self._thread.start()
         return self
 
@@ -130,6 +139,7 @@ class RssMonitor:
         self._stop.set()
         self._thread.join()
         self.cpu += self._cpu()
+        self.driver_cpu += self._driver_cpu()
 
 
 def main() -> None:
@@ -177,6 +187,11 @@ def main() -> None:
         counts = client.compute([(labels == c).sum() for c in model.classes_], sync=True)
         return int(sum(counts))
 
+    def predict_lib_one(client):
+        labels = model.predict(tc.read_parquet_rows(parquet))
+        counts = da.equal.outer(labels, model.classes_).sum(axis=0)
+        return int(client.compute(counts, sync=True).sum())
+
     def scan(client, out):
         shutil.rmtree(out, ignore_errors=True)
         done = scan_files(
@@ -190,13 +205,7 @@ def main() -> None:
 
     clusters = {}
     for k in (1, 2):
-        cluster = LocalCluster(
-            n_workers=k,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=logging.ERROR,
-        )
+        cluster = local_cluster(k)
         client = Client(cluster)
         client.run(lambda: __import__("tentaclass.cli.main"))
         clusters[k] = (cluster, client)
@@ -212,6 +221,7 @@ def main() -> None:
     times: dict[tuple[str, int], float] = {}
     rss: dict[tuple[str, int], tuple[int, int]] = {}
     cpu: dict[tuple[str, int], float] = {}
+    driver: dict[tuple[str, int], float] = {}
     counts = {}
     for rep in range(max(args.repeat, args.big_repeat)):
         for k in (1, 2):
@@ -220,10 +230,11 @@ def main() -> None:
                 ("wraps", lambda c=client: wraps(c)),
                 ("classify --files", lambda c=client, k=k: classify_cli(c, args.workdir / f"o{k}")),
                 ("predict (library)", lambda c=client: predict_lib(c)),
+                ("predict, one count", lambda c=client: predict_lib_one(c)),
                 ("scan --files", lambda c=client, k=k: scan(c, args.workdir / f"s{k}")),
             ]
             for job, run in jobs:
-                big = job in ("classify --files", "predict (library)")
+                big = job in ("classify --files", "predict (library)", "predict, one count")
                 if rep >= (args.big_repeat if big else args.repeat):
                     continue
                 mon = RssMonitor(client)
@@ -232,7 +243,7 @@ def main() -> None:
                     counts[job] = run()
                 dt = time.perf_counter() - t
                 if dt < times.get((job, k), np.inf):
-                    times[job, k], cpu[job, k] = dt, mon.cpu
+                    times[job, k], cpu[job, k], driver[job, k] = dt, mon.cpu, mon.driver_cpu
                 if job != "wraps":
                     old = rss.get((job, k), (0, 0, 0, 0))
                     rss[job, k] = (
@@ -242,7 +253,9 @@ def main() -> None:
                         mon.idle,
                     )
                 print(
-                    f"{job:<18} {k} worker(s): {dt:7.2f} s, worker CPU {mon.cpu:7.2f} s", flush=True
+                    f"{job:<18} {k} worker(s): {dt:7.2f} s, worker CPU {mon.cpu:7.2f} s, "
+                    f"driver CPU {mon.driver_cpu:6.2f} s",
+                    flush=True,
                 )
     for cluster, client in clusters.values():
         client.close()
@@ -252,6 +265,7 @@ def main() -> None:
         "wraps": ("wraps/s", args.wraps),
         "classify --files": ("arrays/s", cli_arrays),
         "predict (library)": ("arrays/s", args.arrays),
+        "predict, one count": ("arrays/s", args.arrays),
         "scan --files": ("belt rows/s", counts["scan --files"][0]),
     }
     rows = []
@@ -270,6 +284,8 @@ def main() -> None:
                 "seconds_2": times[job, 2],
                 "worker_cpu_seconds_1": cpu[job, 1],
                 "worker_cpu_seconds_2": cpu[job, 2],
+                "driver_cpu_seconds_1": driver[job, 1],
+                "driver_cpu_seconds_2": driver[job, 2],
                 "rate_per_cpu_second": n / cpu[job, 1],
                 "cpu_share_2": cpu[job, 2] / (2 * times[job, 2]),
                 "peak_rss_worker_MiB": None if mem is None else mem[0] / 2**20,
@@ -281,10 +297,11 @@ def main() -> None:
     print(f"\nload average before {load_before}, after {load_after}, cores {os.cpu_count()}")
     print(f"check counts: {counts}")
     print(
-        "\n| job | size | 1 worker | 2 workers | ratio | worker CPU s, 1 / 2 | CPU share, 2 "
+        "\n| job | size | 1 worker | 2 workers | ratio | worker CPU s, 1 / 2 "
+        "| driver CPU s, 1 / 2 | CPU share, 2 "
         "| per CPU-second | 2 workers: peak RSS one / all (idle all), peak USS all |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         mem = (
             "-"
@@ -296,6 +313,7 @@ def main() -> None:
             f"| {r['job']} | {r['n']:,} | {r['rate_1']:,.0f} {r['unit']} | "
             f"{r['rate_2']:,.0f} {r['unit']} | {r['ratio']:.2f}x | "
             f"{r['worker_cpu_seconds_1']:.1f} / {r['worker_cpu_seconds_2']:.1f} | "
+            f"{r['driver_cpu_seconds_1']:.2f} / {r['driver_cpu_seconds_2']:.2f} | "
             f"{r['cpu_share_2']:.0%} | {r['rate_per_cpu_second']:,.0f} | {mem} |"
         )
     if args.json is not None:

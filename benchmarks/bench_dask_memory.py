@@ -1,10 +1,11 @@
 """Peak memory of the whole 10^7-array featurise + predict job on 2 Dask worker processes.
 
 The job as a user runs it, in a fresh process: load a saved model
-(``tentaclass.load_model``), start a ``LocalCluster`` of 2 single-threaded
-worker processes, read the Parquet files with ``tentaclass.read_parquet_rows``
-(one block per row group of 65 536 arrays, read with pyarrow in the tasks),
-``model.predict`` on the dask array, count the labels per class. Nothing else
+(``tentaclass.load_model``), start the ``LocalCluster`` of 2 single-threaded
+worker processes that ``--scheduler local`` starts, read the Parquet files
+with ``tentaclass.read_parquet_rows`` (one block per row group of 65 536
+arrays, read with pyarrow in the tasks, in the same task as ``model.predict``
+on the dask array), count the labels per class. Nothing else
 is loaded on the workers: they import what unpickling the tasks needs
 (the model's classes, numpy, pyarrow) and nothing more.
 
@@ -113,24 +114,17 @@ class Memory:
 
 
 def job(workdir: Path, files: int, workers: int) -> dict:
-    import logging
-
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     import tentaclass as tc
+    from tentaclass._dask import local_cluster
 
     mem = Memory()
     start = mem.sample()
     model = tc.load_model(workdir / "model.tcm")
     paths = [workdir / "parquet" / f"log{i:03d}.parquet" for i in range(files)]
     with (
-        LocalCluster(
-            n_workers=workers,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=":0",
-            silence_logs=logging.ERROR,
-        ) as cluster,
+        local_cluster(workers) as cluster,
         Client(cluster) as client,
     ):
         idle = mem.sample()

@@ -38,13 +38,7 @@ pytestmark = [
 
 @pytest.fixture(scope="module")
 def client():
-    cluster = distributed.LocalCluster(
-        n_workers=2,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=":0",
-        silence_logs=50,
-    )
+    cluster = _dask.local_cluster(2)  # the cluster of --scheduler local
     with distributed.Client(cluster) as c:
         c.run(lambda: __import__("tentaclass.cli.main"))  # warm the workers up once
         yield c
@@ -134,6 +128,19 @@ def test_read_parquet_rows(client, data, tmp_path):
     clf = tc.FourierClassifier(detrend=True, spread=0.5).fit(X, y)
     ours, theirs = client.compute([clf.predict(rows), clf.predict(theirs)], sync=True)
     np.testing.assert_array_equal(ours, theirs)
+    # each row group is read by the task that classifies it: one task per row group
+    for lazy in (clf.predict(rows), clf.predict_proba(rows), clf.transform(rows)):
+        assert len(lazy.__dask_graph__().layers) == 1
+        assert len(dict(lazy.__dask_graph__())) == rows.numblocks[0]
+        assert lazy.chunks[0] == rows.chunks[0]
+    proba = client.compute(clf.predict_proba(rows)).result()
+    cuts = np.cumsum(rows.chunks[0])[:-1]
+    expect = np.concatenate([clf.predict_proba(b) for b in np.split(Xn, cuts)])
+    np.testing.assert_array_equal(proba, expect)
+    # any other array of rows (here the rows times one) takes the read tasks as inputs
+    sliced = clf.predict(rows * 1.0)
+    assert len(sliced.__dask_graph__().layers) > 1
+    np.testing.assert_array_equal(client.compute(sliced).result(), ours)
     np.testing.assert_array_equal(
         tc.read_parquet_rows(paths[0], columns=["q3", "q0"]).compute(), Xn[:200, [3, 0]]
     )
@@ -383,6 +390,15 @@ def test_files_of_another_chain_length(client, data, tmp_path):
         f"Error: {logs / 'b.parquet'}: arrays of 12 joint angles, but the model expects 16"
     )
     assert not (tmp_path / "out").exists()  # refused before any work
+
+
+def test_map_files_twice_with_the_same_arguments(client):
+    """Back-to-back calls sharing an argument each get it (no call loses the other's copy)."""
+    job = "{} -> {} with {}".format
+    ins, outs = ["a", "b"], ["A", "B"]
+    for _ in range(4):
+        got = _dask.map_files(job, ins, outs, 5, client=client, progress=False)
+        assert got == ["a -> A with 5", "b -> B with 5"]
 
 
 def test_failing_file_leaves_no_output(client, data, tmp_path, monkeypatch):

@@ -72,7 +72,8 @@ def angle_blocks(path: Path, rows: int | None = None) -> Iterator[np.ndarray]:
         if bad:
             raise ValueError(f"{path}: column {bad[0]!r} is not numeric; expected one "
                              "numeric column per joint angle")  # fmt: skip
-        for batch in pf.iter_batches(batch_size=rows):
+        # one thread: one file per worker process, one worker per core
+        for batch in pf.iter_batches(batch_size=rows, use_threads=False):
             yield np.column_stack([c.to_numpy(zero_copy_only=False) for c in batch.columns]
                                   ).astype(np.float64, copy=False)  # fmt: skip
     elif suffix == ".npy":
