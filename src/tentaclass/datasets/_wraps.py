@@ -83,14 +83,16 @@ def _winding(joints: np.ndarray, centre: np.ndarray) -> np.ndarray:
 def _support_laps(
     batch: Any, outlines: Sequence[np.ndarray], lengths: np.ndarray, mode: str, mirror: bool
 ) -> np.ndarray:
-    """Laps the chain made along its support: the lap its last joint lies on plus the share of it.
+    """Laps the chain made along its support, from the start point to its last joint.
 
-    The share is the arc of the support (the convex hull in ``"taut"`` mode,
-    the outline's closing in ``"hug"`` mode) from the start point to the last
-    joint resting on it, over the support's length: 1.0 exactly when the chain
-    is back at its start point, steady as the chain advances (the heading-based
+    Every joint after the approach is projected onto the support (the convex
+    hull in ``"taut"`` mode, the outline's closing in ``"hug"`` mode) and the
+    steps between them, each the shorter way round, are added up, over the
+    support's length: 1.0 exactly when the chain is back at its start point,
+    steady as the chain advances (the heading-based
     :attr:`~tentaclass.WrapBatch.laps` stands still along straight edges and
-    jumps at corners).
+    jumps at corners), and joints in the air past a corner count where they
+    hang.
     """
     import shapely
 
@@ -100,18 +102,16 @@ def _support_laps(
     flip = np.array([-1.0, 1.0]) if mirror else np.ones(2)
     out = np.full(len(outlines), np.nan)
     for i, outline in enumerate(outlines):
-        on = np.flatnonzero(batch.lap[i] >= 0)
-        if on.size == 0 or not np.all(np.isfinite(batch.joints[i, on[-1]])):
+        last = int(batch.n_placed[i])
+        first = min(int(batch.offset_links[i]), last)
+        pts = np.vstack([batch.start_point[i], batch.joints[i, first : last + 1]])
+        if not np.all(np.isfinite(pts)):
             continue
         surf = build_surface(as_outline(outline), mode, 0.0, 0.0, mirror, float(lengths[i]))
         ring = shapely.LinearRing(surf.curve(0))
-        ends = shapely.points(np.stack([batch.start_point[i], batch.joints[i, on[-1]]]) * flip)
-        s0, s1 = shapely.line_locate_point(ring, ends)
-        share = ((s1 - s0) / ring.length) % 1.0
-        lap = int(batch.lap[i, on[-1]])
-        if lap > 0 and share > 1 - 1e-6:  # on the start point, a rounding short of it
-            share = 0.0
-        out[i] = lap + share
+        at = shapely.line_locate_point(ring, shapely.points(pts * flip)) / ring.length
+        step = np.diff(at)
+        out[i] = np.sum(step - np.round(step))
     return out
 
 
