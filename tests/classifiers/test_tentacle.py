@@ -93,6 +93,21 @@ def test_partial_wraps_are_reported_as_partial(model):
     assert p.max(axis=1).mean() < model.predict_proba(Xf).max(axis=1).mean()
 
 
+@pytest.mark.parametrize("noise", [0.0, 0.02])
+def test_wraps_just_short_of_a_lap_are_partial(model, noise):
+    # 0.85-0.95 laps: the chain's end lies close to its start, but it never ran
+    # past it, while 1.2-2 laps run on over their start
+    short = synthetic_tentacle(80, 32, laps=(0.85, 0.95), offset=(0, 2), noise=noise,
+                               random_state=13)  # fmt: skip
+    g = model.grasp(short.data)
+    assert np.mean(g["state"] == "partial") >= 0.95
+    assert np.all(g["laps"][g["state"] == "partial"] < 1.1)  # by the turning: steps at corners
+    assert np.mean(g["label"] == short.target) >= 0.9
+    full = synthetic_tentacle(80, 32, laps=(1.2, 2.0), offset=(0, 2), noise=noise,
+                              random_state=13)  # fmt: skip
+    assert np.all(model.grasp(full.data)["state"] == "closed")
+
+
 def test_unknown_class_is_rejected(model):
     d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.0, random_state=14)
     t = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, random_state=15)

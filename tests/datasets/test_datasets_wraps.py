@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from tentaclass.datasets._wraps import mpeg7_tentacle, synthetic_tentacle
+from tentaclass.wrapping import grasp_state
 
 
 def test_synthetic_is_deterministic_and_varied():
@@ -13,15 +14,19 @@ def test_synthetic_is_deterministic_and_varied():
     assert not np.array_equal(a.data, synthetic_tentacle(40, 16, noise=0.02, random_state=4).data)
     assert a.data.shape == (40, 16) and np.all(np.isfinite(a.data))
     assert set(a.target) == {"square", "circle", "triangle", "rectangle"}
-    assert np.all(a.laps > 0.6) and 1.2 < np.median(a.laps) < 1.8  # heading-based, steps at corners
+    assert np.all((a.laps > 1 - 0.01) & (a.laps < 2 + 0.01))  # along the hull: sized to the laps
     signs = np.sign(a.data.sum(axis=1))
     assert (signs > 0).any() and (signs < 0).any()  # both directions
 
 
 def test_synthetic_partial_wraps():
     d = synthetic_tentacle(30, 16, laps=(0.5, 0.9), offset=(0, 0), noise=0.0, random_state=1)
-    # laps are read from headings, which jump at corners: judge the bulk
-    assert np.median(d.laps) < 0.9 and np.all(d.laps < 1.3)
+    # laps along the hull: every object is sized until the chain makes them
+    assert np.all((d.laps >= 0.5 - 0.01) & (d.laps <= 0.9 + 0.01))
+    # on the circles (no approach) the heading turns with the arc: the first and the
+    # last link both lag the tangent at their tips by half a link
+    on_circle = d.target == "circle"
+    np.testing.assert_allclose(grasp_state(d.data[on_circle]).laps, d.laps[on_circle], atol=0.005)
 
 
 def test_synthetic_bad_noise():
@@ -92,6 +97,27 @@ def test_fixed_chain_wraps_keep_every_row(mpeg7_folder, tmp_path):
 
     s = split_laps(d.data[done])
     assert np.mean(s.closed & (s.laps > 1.0) & (s.laps < 2.4)) >= 0.8
+
+
+@pytest.mark.parametrize("mode", ["taut", "hug"])
+def test_fixed_chain_wraps_make_the_laps_asked(mpeg7_folder, tmp_path, mode):
+    # concave silhouettes: a hugging chain bridges their narrow concavities, so a
+    # lap of chain is shorter than the outline and the size is searched for
+    for name in ("bat-1.png", "device3-1.png", "octopus-1.png"):
+        shutil.copy(mpeg7_folder / name, tmp_path / name)
+    kw = {"protocol": "fixed-chain", "copies": 2, "cache": False}
+    part = mpeg7_tentacle(tmp_path, 64, mode, laps=(0.5, 0.95), **kw)
+    assert part.complete.all()
+    assert np.all((part.laps >= 0.5 - 0.01) & (part.laps <= 0.95 + 0.01))
+    full = mpeg7_tentacle(tmp_path, 64, mode, laps=(1.2, 2.0), **kw)
+    assert full.complete.all()
+    assert np.all((full.laps >= 1.2 - 0.01) & (full.laps <= 2.0 + 0.01))
+    # independent: the lap length split_laps finds from the angles gives the same laps
+    from tentaclass.features import split_laps
+
+    s = split_laps(full.data)
+    assert s.closed.all()
+    np.testing.assert_allclose(s.laps, full.laps, atol=0.1)
 
 
 def test_wrap_cache_is_keyed_on_the_files(mpeg7_folder, tmp_path, monkeypatch):

@@ -344,12 +344,11 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
             (laps after the approach, from the angles), ``label`` and
             ``probability`` of the most probable class.
         """
-        p = self.predict_proba(X)
-        Xv = validate_data(self, X, dtype=np.float64, reset=False)
-        split = split_laps(_three_or_more(Xv), self.n_points)
+        s, closed, laps, _ = self._scores(X)
+        p = self._proba_of(s, closed)
         return {
-            "state": np.where(split.closed, "closed", "partial"),
-            "laps": split.laps,
+            "state": np.where(closed, "closed", "partial"),
+            "laps": laps,
             "label": self.classes_[np.argmax(p, axis=1)],
             "probability": p.max(axis=1),
         }

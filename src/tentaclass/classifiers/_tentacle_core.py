@@ -13,7 +13,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .._typing import FloatArray
-from ..features import fourier_features, last_lap, split_laps
+from ..features import LapSplit, fourier_features, last_lap, split_laps
 from ..geometry import resample_closed
 
 #: Floor of member probabilities before their logarithm is taken.
@@ -24,6 +24,14 @@ _ELASTIC_POINTS = 64
 _ARC_SCALES = (0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.25, 1.4, 1.6, 1.8, 2.0)
 #: Full wraps of fewer laps than this are also matched as arcs (they may be partial).
 _AMBIGUOUS_LAPS = 1.15
+#: A lap counts as closed where the chain runs on past its start for this many
+#: links and its end lies within this share of a lap of the point one lap before,
+#: or where its end lies within this many links of that point (a chain that
+#: closes exactly, with no overlap): a chain short of a lap ends a chord of the
+#: missing arc from its start.
+_MIN_OVERLAP = 1.5
+_CLOSE_GAP = 0.12
+_EXACT_GAP = 1.5
 #: Training wraps matched elastically per query: the nearest by the lap matcher
 #: and by the exact matcher (the elastic matcher re-ranks them).
 _ELASTIC_CANDIDATES = (30, 15)
@@ -73,13 +81,14 @@ class TentacleCore:
         k = len(self.classes_)
         out = np.empty((len(Xv), k))
         novelty = np.full(len(Xv), -np.inf)
-        closed = split.closed
+        closed = split.closed & _closes(Xv, split)
+        laps = split.laps.copy()
         if closed.any():
             members = self._closed_members(Xv[closed], split.lap[closed])
             out[closed] = _blend(members, self._weights()) / self.scale_
             novelty[closed] = self._closed_novelty(out[closed], members[3])
         # barely more than a lap: maybe a partial wrap whose ends happen to meet
-        near_one = np.flatnonzero(closed & (split.laps < _AMBIGUOUS_LAPS))
+        near_one = np.flatnonzero(closed & (laps < _AMBIGUOUS_LAPS))
         if near_one.size:
             heads, turning = _arc_after_approach(
                 Xv[near_one], split.offset[near_one], split.direction[near_one], self.n_points
@@ -89,7 +98,14 @@ class TentacleCore:
         rows = np.flatnonzero(~closed)
         if rows.size:
             heads = np.cumsum(split.lap[rows], axis=1)
-            d = _partial_distances(heads, split.laps[rows], self.headings_)
+            # a lap split_laps found but the chain does not close: the arc after the approach
+            unsure = np.flatnonzero(split.closed[rows])
+            if unsure.size:
+                r = rows[unsure]
+                heads[unsure], laps[r] = _arc_after_approach(
+                    Xv[r], split.offset[r], split.direction[r], self.n_points
+                )
+            d = _partial_distances(heads, laps[rows], self.headings_)
             s = _class_minima(d, self.arc_labels_, k) / self.partial_scale_
             out[rows] = s
             ordered = np.sort(s, axis=1)
@@ -98,7 +114,7 @@ class TentacleCore:
                 ordered[:, 0] - self.partial_reject_distance_,
                 self.partial_reject_margin_ - margin,
             )
-        return out, closed, split.laps, novelty
+        return out, closed, laps, novelty
 
     def _weights(self) -> FloatArray:
         w = self.weights_
@@ -312,6 +328,26 @@ def _resample_rows(h: FloatArray, m: int) -> FloatArray:
     x_old = (np.arange(n) + 0.5) / n
     x_new = (np.arange(m) + 0.5) / m
     return np.array([np.interp(x_new, x_old, row) for row in h])
+
+
+def _closes(X: FloatArray, split: LapSplit) -> np.ndarray:
+    """Whether each wrap's lap (as :func:`~tentaclass.features.split_laps` found it) closes.
+
+    Rebuilds the joints from the angles and compares the chain's end with the
+    point one lap (``split.period`` links) before it: see ``_MIN_OVERLAP``,
+    ``_CLOSE_GAP`` and ``_EXACT_GAP``. False where no lap was found.
+    """
+    n = X.shape[1]
+    heading = np.cumsum(X * split.direction[:, None], axis=1)
+    z = np.concatenate([np.zeros((len(X), 1)), np.cumsum(np.exp(1j * heading), axis=1)], axis=1)
+    period = np.where(split.closed, split.period, n)
+    x = np.clip(n - period, 0.0, n)
+    i = np.minimum(np.floor(x).astype(np.int64), n - 1)[:, None]
+    lo, hi = np.take_along_axis(z, i, axis=1)[:, 0], np.take_along_axis(z, i + 1, axis=1)[:, 0]
+    gap = np.abs(z[:, -1] - (lo + (x - i[:, 0]) * (hi - lo)))
+    overlap = n - split.offset - period
+    runs_on = (overlap >= _MIN_OVERLAP) & (gap < _CLOSE_GAP * period)
+    return split.closed & (runs_on | (gap < _EXACT_GAP))
 
 
 def _arc_after_approach(

@@ -80,11 +80,48 @@ def _winding(joints: np.ndarray, centre: np.ndarray) -> np.ndarray:
     return np.abs(ang[:, -1] - ang[:, 0]) / (2 * np.pi)
 
 
-def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut", centres=None):
+def _support_laps(
+    batch: Any, outlines: Sequence[np.ndarray], lengths: np.ndarray, mode: str, mirror: bool
+) -> np.ndarray:
+    """Laps the chain made along its support, from the start point to its last joint.
+
+    Every joint after the approach is projected onto the support (the convex
+    hull in ``"taut"`` mode, the outline's closing in ``"hug"`` mode) and the
+    steps between them, each the shorter way round, are added up, over the
+    support's length: 1.0 exactly when the chain is back at its start point,
+    steady as the chain advances (the heading-based
+    :attr:`~tentaclass.WrapBatch.laps` stands still along straight edges and
+    jumps at corners), and joints in the air past a corner count where they
+    hang.
+    """
+    import shapely
+
+    from ..shapes import as_outline
+    from ..wrapping._surface import build_surface
+
+    flip = np.array([-1.0, 1.0]) if mirror else np.ones(2)
+    out = np.full(len(outlines), np.nan)
+    for i, outline in enumerate(outlines):
+        last = int(batch.n_placed[i])
+        first = min(int(batch.offset_links[i]), last)
+        pts = np.vstack([batch.start_point[i], batch.joints[i, first : last + 1]])
+        if not np.all(np.isfinite(pts)):
+            continue
+        surf = build_surface(as_outline(outline), mode, 0.0, 0.0, mirror, float(lengths[i]))
+        ring = shapely.LinearRing(surf.curve(0))
+        at = shapely.line_locate_point(ring, shapely.points(pts * flip)) / ring.length
+        step = np.diff(at)
+        out[i] = np.sum(step - np.round(step))
+    return out
+
+
+def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut", centres=None,
+                    along=False):  # fmt: skip
     """wrap_many over rows with per-row direction.
 
     Returns angles (b, n), laps (b,), winding (b,) around ``centres`` (NaN if
-    not given) and complete (b,).
+    not given) and complete (b,). With ``along`` the third output is instead
+    the laps counted along the support (:func:`_support_laps`).
     """
     angles = np.empty((len(outlines), n_links))
     laps = np.empty(len(outlines))
@@ -99,12 +136,15 @@ def _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode="taut"
         angles[rows] = b.angles
         laps[rows] = b.laps
         complete[rows] = b.complete
-        if centres is not None:
+        if along:
+            winding[rows] = _support_laps(b, [outlines[i] for i in rows], lengths[rows], mode, flag)
+        elif centres is not None:
             winding[rows] = _winding(np.nan_to_num(b.joints), centres[rows])
     return angles, laps, winding, complete
 
 
-def _wrap_rows(outlines, n_links, lengths, starts, offsets, cw, mode="taut", centres=None):
+def _wrap_rows(outlines, n_links, lengths, starts, offsets, cw, mode="taut", centres=None,
+               along=False):  # fmt: skip
     """:func:`_wrap_both_ways`, but a wrap the generator refuses fails alone.
 
     ``wrap_many`` raises for a whole batch when one wrap is impossible (a
@@ -112,8 +152,9 @@ def _wrap_rows(outlines, n_links, lengths, starts, offsets, cw, mode="taut", cen
     the rows are wrapped one by one and the refused ones come back as NaN rows
     with ``complete`` False, so that the caller can count them.
     """
+    args = (n_links, lengths, starts, offsets, cw, mode, centres, along)
     try:
-        return _wrap_both_ways(outlines, n_links, lengths, starts, offsets, cw, mode, centres)
+        return _wrap_both_ways(outlines, *args)
     except InputError:
         pass
     m = len(outlines)
@@ -125,38 +166,83 @@ def _wrap_rows(outlines, n_links, lengths, starts, offsets, cw, mode="taut", cen
         try:
             a, lp, w, ok = _wrap_both_ways([outlines[i]], n_links, lengths[i : i + 1],
                                            starts[i : i + 1], offsets[i : i + 1], cw[i : i + 1],
-                                           mode, c)  # fmt: skip
+                                           mode, c, along)  # fmt: skip
         except InputError:
             continue
         angles[i], laps[i], winding[i], complete[i] = a[0], lp[0], w[0], ok[0]
     return angles, laps, winding, complete
 
 
-def _fixed_chain_wraps(outlines, n_links, lap_target, offsets, starts, cw, mode, iterations=1):
+#: Fixed chain: a wrap within this many laps of its target is taken.
+_LAP_TOL = 0.01
+
+
+def _fixed_chain_wraps(outlines, n_links, lap_target, offsets, starts, cw, mode, iterations=8):
     """Wraps of one chain of unit links, each object scaled to take ``lap_target`` laps.
 
-    The objects (centred, any size) are first scaled so that the support the
-    chain lies on (the outline in ``"hug"`` mode, its convex hull in
-    ``"taut"`` mode) is ``(n_links - offset) / lap_target`` long, then
-    rescaled ``iterations`` times by the laps the chain actually made (chords
-    are shorter than the arcs they span).
+    The laps are counted along the support the chain lies on
+    (:func:`_support_laps`): the convex hull in ``"taut"`` mode, in ``"hug"``
+    mode the outline with the concavities narrower than a link bridged, which
+    is shorter than the outline and changes with the object's size. So the
+    objects (centred, any size) are first scaled so that the outline, or its
+    hull, is ``(n_links - offset) / lap_target`` long, then the scale is
+    searched for up to ``iterations`` more wraps per object: the laps made
+    fall as the object grows, about in inverse proportion, so each step
+    rescales by ``laps / lap_target`` within the bracket the wraps so far
+    have found (halving it, on a log scale, where that step leaves it). An
+    object stops at ``_LAP_TOL`` from its target; the wrap nearest its target
+    is kept (the laps jump where a larger object lets the chain into a
+    concavity, so a few land farther).
 
     Returns angles (b, n_links) with NaN after the last placed link, the laps
-    made (b,), complete (b,) and the scale applied to each outline (b,).
+    made along the support (b,), complete (b,), the scale applied to each
+    outline (b,) and the laps by the last link's heading
+    (:attr:`tentaclass.WrapBatch.laps`, b,).
     """
+    m = len(outlines)
     polys = [Polygon(o) for o in outlines]
     support = np.array([p.convex_hull.length if mode == "taut" else p.length for p in polys])
     scale = np.maximum(n_links - offsets, 1.0) / lap_target / support
-    ones = np.ones(len(outlines))
+    small, large = np.zeros(m), np.full(m, np.inf)  # scales known to give too many, too few laps
+    angles = np.full((m, n_links), np.nan)
+    laps, along, best = np.full(m, np.nan), np.full(m, np.nan), np.full(m, np.inf)
+    done, kept = np.zeros(m, bool), np.full(m, np.nan)
+    todo = np.arange(m)
     for it in range(iterations + 1):
-        scaled = [o * f for o, f in zip(outlines, scale, strict=True)]
-        angles, laps, _, done = _wrap_rows(scaled, n_links, ones, starts, offsets, cw, mode)
+        rows = [outlines[i] * scale[i] for i in todo]
+        a, lp, got, ok = _wrap_rows(rows, n_links, np.ones(todo.size), starts[todo],
+                                    offsets[todo], cw[todo], mode, along=True)  # fmt: skip
+        if it == 0:  # kept if no wrap of the object ever rests on its support
+            angles[todo], laps[todo], done[todo], kept[todo] = a, lp, ok, scale[todo]
+        err = np.where(ok & np.isfinite(got), np.abs(got - lap_target[todo]), np.inf)
+        better = err < best[todo]
+        up = todo[better]
+        angles[up], laps[up], along[up], done[up] = a[better], lp[better], got[better], ok[better]
+        best[up], kept[up] = err[better], scale[up]
         if it == iterations:
             break
-        ok = done & np.isfinite(laps) & (laps > 0.05)
-        scale = np.where(ok, scale * np.where(ok, laps, 1.0) / lap_target, scale)
+        # where no joint rests on the support, the heading tells the way
+        got = np.where(np.isfinite(got), got, lp)
+        fine = ok & np.isfinite(got) & (got > 0.05)
+        many = fine & (got > lap_target[todo])
+        small[todo[many]] = np.maximum(small[todo[many]], scale[todo[many]])
+        few = fine & ~many
+        large[todo[few]] = np.minimum(large[todo[few]], scale[todo[few]])
+        step = scale[todo] * np.where(fine, got, 1.0) / lap_target[todo]
+        lo, hi = small[todo], large[todo]
+        inside = fine & (step > lo) & (step < hi)
+        with np.errstate(invalid="ignore"):
+            halve = np.where(lo > 0, np.sqrt(lo * hi), 0.5 * hi)
+        halve = np.where(np.isfinite(hi), halve, 2 * lo)
+        # a jammed or refused wrap: another size nearby
+        scale[todo] = np.where(inside, step, np.where(fine, halve, 0.9 * scale[todo]))
+        todo = todo[best[todo] > _LAP_TOL]
+        if todo.size == 0:
+            break
     laps = np.where(done, laps, np.nan)
-    return angles, laps, done, scale
+    # no joint on the support at any size tried (the chain stood off it): the heading's count
+    along = np.where(done, np.where(np.isfinite(along), along, laps), np.nan)
+    return angles, along, done, kept, laps
 
 
 @overload
@@ -240,7 +326,9 @@ def synthetic_tentacle(
     -------
     data : Bunch
         ``data`` (n_samples, n_links) angles, ``target`` (n_samples,) class,
-        ``laps`` (n_samples,) laps actually wrapped, ``offset`` (n_samples,)
+        ``laps`` (n_samples,) laps wrapped after the approach, counted along the
+        convex hull or the hug support (1.0 exactly back at the start point; the
+        object is sized until they are within 0.01 of the laps drawn), ``offset`` (n_samples,)
         stand-off (a distance, in link lengths), ``noise`` (n_samples,) sigma used, ``complete``
         (n_samples,) False where the generator could not place every link (the
         row is NaN after the last placed link; count it as an error).
@@ -271,7 +359,7 @@ def synthetic_tentacle(
     starts = rng.uniform(0, 1, n_samples)
     cw = rng.random(n_samples) < 0.5
     sigma = rng.uniform(nlo, nhi, n_samples)
-    angles, got_laps, done, _ = _dask.split_rows(
+    angles, got_laps, done, _, _ = _dask.split_rows(
         _fixed_chain_wraps, outlines, n_links, lap_target, off, starts, cw, mode, client=client
     )
     angles = angles + rng.normal(0.0, 1.0, angles.shape) * sigma[:, None]
@@ -300,6 +388,7 @@ def _generator_digest() -> str:
         h.update(f.read_bytes())
     for func in (
         _winding,
+        _support_laps,
         _wrap_both_ways,
         _wrap_rows,
         _fixed_chain_wraps,
@@ -479,7 +568,7 @@ def _fixed_chain_mpeg7(
     try:
         for lo in range(0, m, chunk):
             part = slice(lo, lo + chunk)
-            angles[part], got[part], done[part], _ = _dask.split_rows(
+            angles[part], got[part], done[part], _, _ = _dask.split_rows(
                 _fixed_chain_wraps,
                 rows[part],
                 n_links,
@@ -525,7 +614,10 @@ def mpeg7_tentacle(
       links; each silhouette is rotated at random and scaled at random so that
       the chain wraps a number of laps drawn from ``laps`` after an approach
       from a stand-off drawn from ``offset``, from a random start point in a
-      random direction.
+      random direction. The laps are those of the chain's own path (a hugging
+      chain bridges the concavities narrower than a link, so its lap is
+      shorter than the outline): each silhouette is resized, a few wraps
+      each, until the chain makes them to within 0.01 lap.
       Wraps the generator cannot complete are kept, flagged in ``complete``:
       score them as errors.
     - ``"one-lap"``: the link length is tuned per silhouette (by bisection) so
@@ -577,7 +669,8 @@ def mpeg7_tentacle(
         the silhouette's index, ``wrap_index`` the copy number, ``names`` file
         names, ``complete`` False where the wrap failed (the chain jammed
         before placing every link, or the generator refused it; the row is NaN
-        after the last placed link), ``laps`` the laps wrapped (fixed chain;
+        after the last placed link), ``laps`` the laps wrapped after the
+        approach, counted along the support the chain lies on (fixed chain;
         NaN for the one-lap protocol), ``offset`` the stand-off (a distance, in
         link lengths),
         ``closure_gap`` how far (in links) the noise-free chain's last joint
@@ -740,8 +833,10 @@ def chain_wraps(
     -------
     data : Bunch
         ``data`` (n, n_links) joint angles; ``outline`` (n,) index of the
-        outline wrapped; ``laps``, ``offset`` (a distance), ``noise``, ``mode``
-        (n,) per wrap; ``n_failed``, the number of wraps left out.
+        outline wrapped; ``laps`` (counted along the support the chain lies on,
+        1.0 exactly back at the start point), ``offset`` (a distance),
+        ``noise``, ``mode`` (n,) per wrap; ``n_failed``, the number of wraps
+        left out.
 
     Examples
     --------
@@ -812,12 +907,11 @@ def chain_wraps(
                 continue
             objs_sub = [objs[i] for i in sub]
             args = (starts[sub], cw[sub], "hug" if flag else "taut")
-            if laps is not None:  # scaled to the laps, rescaled once by the laps made
-                a, g, ok, _ = _fixed_chain_wraps(objs_sub, n_links, target[sub], off[sub], *args)
+            if laps is not None:  # scaled until the chain makes the laps
+                a, g, ok, _, _ = _fixed_chain_wraps(objs_sub, n_links, target[sub], off[sub], *args)
             else:
-                a, g, _, ok = _wrap_rows(
-                    objs_sub, n_links, np.ones(sub.size), args[0], off[sub], args[1], args[2]
-                )
+                a, _, g, ok = _wrap_rows(objs_sub, n_links, np.ones(sub.size), args[0], off[sub],
+                                         args[1], args[2], along=True)  # fmt: skip
             out[sub], got[sub], done[sub] = a, g, ok
         if progress is not None:
             progress(int(rows[-1]) + 1, total)
