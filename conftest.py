@@ -86,13 +86,26 @@ def _in_group(item, group):
         item._nodeid = nodeid
 
 
+def _group(item):
+    """The group a test runs in under ``--dist loadgroup``, or None to run anywhere.
+
+    The scanner's tests form one group: its numba kernels take about 25 s of
+    CPU to compile on a fresh clone, once per worker that runs any of them.
+    """
+    path = item.nodeid.split("::")[0]
+    if "scanner" in path:
+        return "scanner"
+    return _costly_scope(item) or ("scanner" if "scanner" in item.nodeid else None)
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
     """Under pytest-xdist: costly set-ups once, and the long tests first.
 
     The tests of a module or package whose fixtures are set up once for all
     of them (a Dask cluster, a browser and a server, fitted models, generated
-    MPEG-7 wraps) form one group that ``--dist loadgroup`` runs on one worker.
+    MPEG-7 wraps) form one group that ``--dist loadgroup`` runs on one worker;
+    so do the tests of the scanner (see ``_group``).
     Workers take the next test as they become free, so the slow tests and the
     groups are handed out first rather than last on one worker while the
     other has nothing left to do. Every test still runs; only the order and
@@ -100,7 +113,7 @@ def pytest_collection_modifyitems(config, items):
     """
     if not os.environ.get("PYTEST_XDIST_WORKER"):
         return
-    groups = {item.nodeid: _costly_scope(item) for item in items}
+    groups = {item.nodeid: _group(item) for item in items}
     items.sort(  # stable
         key=lambda item: (item.get_closest_marker("slow") is None, groups[item.nodeid] is None)
     )
