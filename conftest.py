@@ -37,20 +37,26 @@ _SHARED_FIXTURES = frozenset({"", "tests"})
 
 #: thread pools of one worker: with one thread each, N workers keep N cores busy
 #: instead of starting N times as many threads that spin while they wait for one another
-_ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+_ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 def pytest_configure(config):
-    """Under ``pytest -n N`` (N > 1): the workers start with one thread per pool.
+    """Under ``pytest -n N`` (N > 1): the workers run one thread per pool.
 
     The variables are set in the controlling process before it starts the
-    workers, so they hold before NumPy, BLAS or numba load (and in the
-    processes the tests start); values set by the user are kept.
+    workers, so they hold before NumPy or BLAS load (and in the processes
+    the tests start); values set by the user are kept. numba's parallel
+    kernels run on one thread in each worker (its pool keeps its size, so a
+    library may still ask for more, as aeon's MiniRocket does).
     """
     workers = getattr(config.option, "numprocesses", None)
     if isinstance(workers, int) and workers > 1:
         for name in _ONE_THREAD:
             os.environ.setdefault(name, "1")
+    if os.environ.get("PYTEST_XDIST_WORKER") and "NUMBA_NUM_THREADS" not in os.environ:
+        import numba
+
+        numba.set_num_threads(1)  # for the thread that runs the tests
 
 
 def _costly_scope(item):
