@@ -10,7 +10,7 @@ venv: $(STAMP)
 
 EXTRAS := test,web,physics,outline,dask
 
-# uv (from PyPI) downloads and installs in parallel: about 40 s against 2-3 minutes for
+# uv (from PyPI) downloads and installs in parallel: about 50 s against 2-3 minutes for
 # pip on a fresh venv; pip installs instead wherever uv cannot be had or fails.
 # Pre-releases are refused, as pip does, so both choose the same versions.
 $(STAMP): pyproject.toml
