@@ -1,7 +1,8 @@
 """Collection for the whole repository (tests/ and the doctests in src/).
 
 Doctests of modules behind an optional extra run only where that extra is
-installed; under pytest-xdist the slow tests are handed out first.
+installed; under pytest-xdist the tests sharing a costly set-up run on one
+worker and the slow ones are handed out first.
 """
 
 import importlib.util
@@ -31,33 +32,98 @@ def pytest_ignore_collect(collection_path, config):
     return None
 
 
-#: Test modules whose module-scoped fixtures are costly to set up (a Dask cluster,
-#: generated wraps): under ``pytest -n N --dist loadgroup`` each runs on one worker,
-#: which sets its fixtures up once.
-_XDIST_GROUPS = {
-    "tests/test_dask.py": "dask-cluster",
-    "tests/classifiers/test_tentacle_mpeg7.py": "mpeg7-wraps",
-}
+#: where the fixtures every test shares are defined (cheap: a folder's path, a thread limit)
+_SHARED_FIXTURES = frozenset({"", "tests"})
+
+#: thread pools of one worker: with one thread each, N workers keep N cores busy
+#: instead of starting N times as many threads that spin while they wait for one another
+_ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def pytest_configure(config):
+    """Under ``pytest -n N`` (N > 1): the workers run one thread per pool.
+
+    The variables are set in the controlling process before it starts the
+    workers, so they hold before NumPy or BLAS load (and in the processes
+    the tests start); values set by the user are kept. numba's parallel
+    kernels run on one thread in each worker (its pool keeps its size, so a
+    library may still ask for more, as aeon's MiniRocket does).
+    """
+    workers = getattr(config.option, "numprocesses", None)
+    if isinstance(workers, int) and workers > 1:
+        for name in _ONE_THREAD:
+            os.environ.setdefault(name, "1")
+    if os.environ.get("PYTEST_XDIST_WORKER") and "NUMBA_NUM_THREADS" not in os.environ:
+        import numba
+
+        numba.set_num_threads(1)  # for the thread that runs the tests
+
+
+def _costly_scope(item):
+    """Where the widest fixture a test needs beyond the shared ones is defined, or None.
+
+    A module-, package- or session-scoped fixture is set up once per worker
+    that runs a test needing it: the tests needing it run on one worker.
+    """
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:  # doctests
+        return None
+    owners = [
+        defs[-1].baseid
+        for defs in info.name2fixturedefs.values()
+        if defs and defs[-1].scope != "function" and defs[-1].baseid not in _SHARED_FIXTURES
+    ]
+    return min(owners, key=len) if owners else None
+
+
+def _in_group(item, group):
+    """Append ``@group`` to the test's node id: ``--dist loadgroup`` runs a group on one worker.
+
+    It is what pytest-xdist does for an ``xdist_group`` mark, done here
+    because pytest 9 keeps a node id in ``_id``, which xdist's assignment to
+    ``_nodeid`` no longer reaches (the groups were split over the workers).
+    """
+    nodeid = f"{item.nodeid}@{group}"
+    if hasattr(item, "_id"):
+        from _pytest.nodeid import NodeId
+
+        item._id = NodeId.parse(nodeid)
+    else:
+        item._nodeid = nodeid
+
+
+def _group(item):
+    """The group a test runs in under ``--dist loadgroup``, or None to run anywhere.
+
+    The scanner's tests form one group: its numba kernels take about 25 s of
+    CPU to compile on a fresh clone, once per worker that runs any of them.
+    """
+    path = item.nodeid.split("::")[0]
+    if "scanner" in path:
+        return "scanner"
+    return _costly_scope(item) or ("scanner" if "scanner" in item.nodeid else None)
 
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """Under pytest-xdist: the slow tests first, and costly modules on one worker each.
+    """Under pytest-xdist: costly set-ups once, and the long tests first.
 
-    Workers take the next test as they become free, so the long tests are
-    started first (the longest a few minutes: `make test`'s wall time is at
-    least the longest test's) rather than last on one worker while the other
-    has nothing left to do. Every test still runs; only the order changes.
+    The tests of a module or package whose fixtures are set up once for all
+    of them (a Dask cluster, a browser and a server, fitted models, generated
+    MPEG-7 wraps) form one group that ``--dist loadgroup`` runs on one worker;
+    so do the tests of the scanner (see ``_group``).
+    Workers take the next test as they become free, so the slow tests and the
+    groups are handed out first rather than last on one worker while the
+    other has nothing left to do. Every test still runs; only the order and
+    the worker change.
     """
     if not os.environ.get("PYTEST_XDIST_WORKER"):
         return
-    for item in items:
-        path = Path(item.path)
-        group = (
-            _XDIST_GROUPS.get(path.relative_to(_ROOT).as_posix())
-            if path.is_relative_to(_ROOT)
-            else None
-        )
-        if group:
-            item.add_marker(pytest.mark.xdist_group(group))
-    items.sort(key=lambda item: item.get_closest_marker("slow") is None)  # stable
+    groups = {item.nodeid: _group(item) for item in items}
+    items.sort(  # stable
+        key=lambda item: (item.get_closest_marker("slow") is None, groups[item.nodeid] is None)
+    )
+    if config.getvalue("loadgroup"):  # what xdist sets in a worker for --dist loadgroup
+        for item in items:
+            if groups[item.nodeid]:
+                _in_group(item, groups[item.nodeid])
