@@ -133,8 +133,10 @@ def chain_problems(outline, w, rel_tol: float = 1e-6, rest: float = 0.0, region=
     """Everything wrong with one wrap ``w``: counts per kind (all 0 for a good wrap).
 
     ``"in_cap"`` (crossings of two links inside the object) is reported, not a
-    problem; ``rest`` is in link lengths, ``region`` a shapely polygon (see
-    :func:`crossing_pairs`).
+    problem; ``"self_on_laps"`` counts the crossings that do not involve an
+    approach link (a chain that stands off and wraps more than once must pass
+    over its own approach, which in the plane is a crossing); ``rest`` is in
+    link lengths, ``region`` a shapely polygon (see :func:`crossing_pairs`).
     """
     j = w.joints
     ln = w.link_length
@@ -145,5 +147,6 @@ def chain_problems(outline, w, rel_tol: float = 1e-6, rest: float = 0.0, region=
         "bad_length": int(np.sum(~np.isclose(lengths, ln, rtol=1e-9, atol=0))),
         "object": int(object_violations(outline, j, w.direction, rel_tol).sum()),
         "self": len(out),
+        "self_on_laps": int(np.sum(out.min(axis=1) >= w.offset_links)) if len(out) else 0,
         "in_cap": len(in_cap),
     }

@@ -48,7 +48,7 @@ THESIS = [shapes.square(4), shapes.rectangle(6, 2), shapes.circle(2, 256),
           shapes.triangle(side=5)]  # fmt: skip
 STARS = [star(5, 0.8, 2.0), star(3, 0.15, 2.0, 0.3)] + [random_star(s) for s in range(6)]
 CHAIN_PROBLEMS = ("incomplete", "bad_length")
-CROSSINGS = ("object", "self")
+CROSSINGS = ("object", "self_on_laps")
 
 
 def draw_case(outline, rng, mode, laps):
@@ -136,10 +136,14 @@ def test_single_taut_laps_never_cross(seed):
     assert problems_over(THESIS + STARS, CROSSINGS, modes=("taut",), laps=(1,), seed=seed) == []
 
 
+def test_later_taut_laps_never_cross():
+    assert problems_over(THESIS + STARS, CROSSINGS, modes=("taut",), laps=(2, 3)) == []
+
+
 @pytest.mark.xfail(
     strict=True,
-    reason="a later lap retraces the first lap's support with its joints elsewhere: over "
-    "concave stretches and dents its chords cross the first lap's in the air",
+    reason="hug: a later link over a narrow slot bridged by the closing can still cross an "
+    "earlier link or the object (1 of these 24 wraps)",
 )
-def test_later_laps_never_cross():
-    assert problems_over(THESIS + STARS, CROSSINGS, laps=(2, 3)) == []
+def test_later_hug_laps_never_cross():
+    assert problems_over(THESIS + STARS, CROSSINGS, modes=("hug",), laps=(2, 3)) == []

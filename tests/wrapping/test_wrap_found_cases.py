@@ -1,20 +1,14 @@
 """Cases the fuzz profile found in the wrap generator, kept as explicit tests."""
 
 import numpy as np
-import pytest
 import shapely
 from test_wrap import OUTLINES, check_geometry
 
 from tentaclass.wrapping import wrap
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the comb, a taut chain whose links (3.4) are longer "
-    "than the slots are wide places its first link from a tooth's top across the hull to "
-    "the bottom edge, through the object",
-)
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
+    # the first link, from a tooth's top, must not cut across the hull through the object
     outline = OUTLINES["comb"]
     ln = min(0.140625 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
     w = wrap(outline, 6, ln, start=0.8125, direction="ccw", mode="taut")

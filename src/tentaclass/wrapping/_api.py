@@ -70,21 +70,17 @@ def _run(
     starts: FloatArray,
     offsets: FloatArray,
     mirror: bool,
+    thickness: float,
 ) -> dict:
-    b = len(ls)
-    c_count = len(surf.off) - 1
     p0 = point_at_fraction(outline, starts)
     if mirror:
         p0 = p0 * [-1.0, 1.0]
-    es = np.empty((b, c_count), np.int64)
-    spt = np.empty((b, c_count, 2))
     from . import _kernel  # numba: imported (and compiled) on first use
 
-    e0, t0, s0 = _kernel.locate(p0, np.ascontiguousarray(surf.curve(0)))
-    es[:, 0], spt[:, 0] = e0, s0
-    for c in range(1, c_count):
-        ec, _, sc = _kernel.locate(s0, np.ascontiguousarray(surf.curve(c)))
-        es[:, c], spt[:, c] = ec, sc
+    curve = np.ascontiguousarray(surf.curve())
+    e0, t0, s0 = _kernel.locate(p0, curve)
+    es = e0[:, None].copy()
+    spt = s0[:, None, :].copy()
     th0 = surf.theta[surf.off[0] + e0]
     approach = offsets > 0
     bases = s0.copy()
@@ -92,17 +88,17 @@ def _run(
     turn = np.zeros(len(offsets))
     rows = np.flatnonzero(approach)
     if rows.size:
-        nin = np.array([_inward_normal(surf.curve(0), int(e0[q]), float(t0[q])) for q in rows])
+        nin = np.array([_inward_normal(curve, int(e0[q]), float(t0[q])) for q in rows])
         turn[rows] = _free_approach(surf, s0[rows], nin, offsets[rows])
         a = np.arctan2(nin[:, 1], nin[:, 0]) + turn[rows]
         bases[rows] = s0[rows] - offsets[rows, None] * np.stack([np.cos(a), np.sin(a)], axis=1)
         app_th[rows] = a + np.round((app_th[rows] - a) / (2 * np.pi)) * 2 * np.pi
-    max_search = offsets + surf.max_perimeter + 2 * ls
+    max_search = offsets + surf.perimeter + 2 * ls
     check = 3 if surf.mode == "hug" else 2
     eps = 1e-12 * surf.scale * surf.scale
     joints, contact, lap, phi, status, placed, phi_v = _kernel.walk_many(
         n, ls, surf.pts, surf.off, surf.theta, surf.dev, surf.outline, eps, es, spt, th0,
-        bases, app_th, approach, check, surf.n_laps, max_search, SLACK, 1e-9 * surf.scale,
+        bases, app_th, approach, check, thickness, max_search, SLACK, 1e-9 * surf.scale,
         0.5 * surf.perimeter, surf.vidx,
     )  # fmt: skip
     return {
@@ -263,9 +259,7 @@ def wrap_many(
                 f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
                 f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
             )
-        surf = build_surface(
-            outline, mode, thickness, float(n * ls[rows].max()), mirror, float(ls[rows][0])
-        )
+        surf = build_surface(outline, mode, mirror, float(ls[rows][0]))
         too_long = ls[rows] > surf.diameter
         if np.any(too_long):
             raise InputError(
@@ -273,10 +267,10 @@ def wrap_many(
                 f"{surf.diameter:g}: a link must fit between two points of the outline "
                 f"(use link_length <= {surf.diameter:g})"
             )
-        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror)
+        res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror, thickness)
         for key, val in res.items():
             out[key][rows] = val
-        e0, _, _ = _geom_locate(res["start"], np.ascontiguousarray(surf.curve(0)))
+        e0, _, _ = _geom_locate(res["start"], np.ascontiguousarray(surf.curve()))
         on_start[rows] = surf.dev[e0] <= 1e-9 * surf.scale
         scales[rows] = surf.scale
     return _finish(out, n, ls, off, mirror, noise, seed, on_start, scales, direction)
@@ -397,9 +391,9 @@ def wrap(
     random_state : int or numpy.random.Generator, optional
         Makes the noise reproducible.
     thickness : float, default=0.0
-        Chain thickness: lap ``k`` lies on the support offset outward by
-        ``k * thickness`` (shapely buffer, round joins). 0: later laps lie on the
-        first lap's support.
+        Chain thickness: every later lap lies on the links of the lap before
+        it, offset outward by ``thickness``. 0: a later lap lies on the earlier
+        links themselves.
     seed : int or numpy.random.Generator, optional
         Deprecated alias of ``random_state``.
 
@@ -433,8 +427,13 @@ def wrap(
     around it), the link folds in towards the object, turning clockwise from
     nearly a half turn left of the previous link until it meets the object or
     an earlier link, and the walk goes on from the support point nearest its
-    tip. Later laps lie on the support offset by ``thickness`` per lap, joined
-    to the previous lap at the start point. Where the straight approach
+    tip. Past the start point the chain lies on itself, as a real chain
+    does: the track of every later lap is the chain's own earlier links
+    (offset outward by ``thickness``; chamfered at convex joints, mitred at
+    reflex ones), and a later link that would cross the object or an earlier
+    link (other than the approach, which a chain wrapping more than once must
+    pass over) goes on along that track to the first point it can reach.
+    Where the straight approach
     would pass through another part of the object, it turns (by up to 86
     degrees either way) to the nearest direction that clears it.
 

@@ -71,7 +71,7 @@ def crossing_edge_range(ax, ay, bx, by, obj, eps, first, count):
             # segment, goes on to opposite sides of it.
             ll = dx * dx + dy * dy
             t = dx * (px - ax) + dy * (py - ay)
-            if 0.0 < t < ll:
+            if eps < t < ll - eps:  # not at either end (up to rounding)
                 side = 0.0
                 for step in (-1, 1):
                     v = i
@@ -193,15 +193,15 @@ def free_direction(ax, ay, ux, uy, ln, obj, eps):
 
 
 @nb.njit(cache=True)
-def crossing_link(ax, ay, bx, by, joints, last, eps):
-    """First link ``t < last`` (``joints[t] -> joints[t + 1]``) that a-b crosses, or -1.
+def crossing_link(ax, ay, bx, by, joints, last, eps, first):
+    """First link ``first <= t < last`` (``joints[t] -> joints[t + 1]``) that a-b crosses, or -1.
 
     A crossing passes from one side of the link to the other: touching it,
     ending on it and lying along it do not count.
     """
     lox, hix = min(ax, bx), max(ax, bx)
     loy, hiy = min(ay, by), max(ay, by)
-    for t in range(last):
+    for t in range(first, last):
         px, py = joints[t, 0], joints[t, 1]
         qx, qy = joints[t + 1, 0], joints[t + 1, 1]
         if (px < lox and qx < lox) or (px > hix and qx > hix):
@@ -246,7 +246,7 @@ def blocked(ax, ay, bx, by, obj, eps, joints, last):
     """
     if crossing_edge(ax, ay, bx, by, obj, eps) >= 0:
         return True
-    if crossing_link(ax, ay, bx, by, joints, last, eps) >= 0:
+    if crossing_link(ax, ay, bx, by, joints, last, eps, 0) >= 0:
         return True
     return inside(0.5 * (ax + bx), 0.5 * (ay + by), obj, np.sqrt(eps))
 

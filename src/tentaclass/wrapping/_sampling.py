@@ -24,7 +24,7 @@ MAX_LINKS_PER_LAP = 1_000_000
 
 
 def _diameter(outline: np.ndarray) -> float:
-    return build_surface(outline, "taut", 0.0, 0.0, False, 0.0).diameter
+    return build_surface(outline, "taut", False, 0.0).diameter
 
 
 def capture_error(

@@ -1,4 +1,4 @@
-"""Support curves a chain wraps on: the object's hull or outline, and the laps above it."""
+"""The support a chain's first lap wraps on: the object's hull, or its outline closed by a link."""
 
 from __future__ import annotations
 
@@ -18,24 +18,22 @@ __all__ = ["Surface", "build_surface", "point_at_fraction"]
 
 @dataclass(frozen=True)
 class Surface:
-    """Lap curves of one outline, flattened for the compiled walk."""
+    """The first lap's support curve of one outline, flattened for the compiled walk."""
 
     outline: FloatArray  # the object, counter-clockwise (mirrored for cw wraps)
     mode: str  # "taut": curve 0 is the convex hull; "hug": the outline
-    pts: FloatArray  # (N, 2) vertices of all lap curves back to back
-    off: np.ndarray  # (C + 1,) curve c is pts[off[c]:off[c + 1]]
-    theta: FloatArray  # (N,) unwrapped edge directions, per curve
-    dev: FloatArray  # (N,) how far each edge strays from the outline (inf off curve 0)
+    pts: FloatArray  # (N, 2) vertices of the support curve
+    off: np.ndarray  # (2,) the curve is pts[off[0]:off[1]]
+    theta: FloatArray  # (N,) unwrapped edge directions
+    dev: FloatArray  # (N,) how far each edge strays from the outline
     vidx: np.ndarray  # taut: outline index of each hull vertex; hug: empty
-    n_laps: int  # laps the track provides (unbounded: the last curve repeats)
     scale: float  # largest extent of the outline
     diameter: float
-    perimeter: float  # of curve 0
-    max_perimeter: float
+    perimeter: float  # of the support curve
 
-    def curve(self, c: int) -> FloatArray:
-        """Vertices of lap curve ``c``."""
-        return self.pts[self.off[c] : self.off[c + 1]]
+    def curve(self) -> FloatArray:
+        """Vertices of the support curve."""
+        return self.pts[self.off[0] : self.off[1]]
 
 
 def _edge_theta(p: FloatArray) -> FloatArray:
@@ -99,9 +97,7 @@ def _distance_to_outline(points: FloatArray, outline: FloatArray) -> FloatArray:
 
 
 @functools.lru_cache(maxsize=64)
-def _build(
-    key: bytes, m: int, mode: str, thickness: float, arc_needed: float, link_length: float
-) -> Surface:
+def _build(key: bytes, m: int, mode: str, link_length: float) -> Surface:
     outline = np.frombuffer(key, dtype=np.float64).reshape(m, 2)
     scale = float(np.ptp(outline, axis=0).max())
     if mode == "taut":
@@ -111,44 +107,22 @@ def _build(
         vidx = np.zeros(0, np.int64)
     hull_pts = c0 if mode == "taut" else outline[ConvexHull(outline).vertices]
     diameter = float(pdist(hull_pts).max())
-    curves, flags = [c0], [on0]
-    per0 = float(np.sum(np.hypot(*(np.roll(c0, -1, axis=0) - c0).T)))
-    if thickness > 0:
-        base = shapely.make_valid(shapely.Polygon(c0)).buffer(0)
-        total, k = 0.0, 1
-        while total < arc_needed + per0 and k < 200:
-            grown = base.buffer(k * thickness, quad_segs=8)
-            if grown.geom_type != "Polygon":  # a closing that touches itself
-                grown = max(grown.geoms, key=lambda g: g.area)
-            ring = grown.exterior
-            ck = _clean_ring(np.asarray(ring.coords)[:-1])
-            curves.append(ck)
-            flags.append(np.full(len(ck), np.inf))
-            total += float(ring.length)
-            k += 1
-    # laps beyond the last curve built lie on it again: the track never ends
-    n_laps = 1 << 30
-    pts = np.ascontiguousarray(np.concatenate(curves))
-    off = np.cumsum([0] + [len(c) for c in curves]).astype(np.int64)
-    theta = np.concatenate([_edge_theta(c) for c in curves])
-    perims = [float(np.sum(np.hypot(*(np.roll(c, -1, axis=0) - c).T))) for c in curves]
-    for a in (outline, pts, off, theta):
+    pts = np.ascontiguousarray(c0)
+    off = np.array([0, len(c0)], np.int64)
+    theta = _edge_theta(c0)
+    for a in (outline, pts, off, theta, on0):
         a.setflags(write=False)
-    dev = np.concatenate(flags)
-    dev.setflags(write=False)
     return Surface(
         outline=outline,
         mode=mode,
         pts=pts,
         off=off,
         theta=theta,
-        dev=dev,
+        dev=on0,
         vidx=vidx,
-        n_laps=n_laps,
         scale=scale,
         diameter=diameter,
-        perimeter=per0,
-        max_perimeter=max(perims),
+        perimeter=float(np.sum(np.hypot(*(np.roll(c0, -1, axis=0) - c0).T))),
     )
 
 
@@ -163,29 +137,19 @@ def _radius_bucket(link_length: float) -> float:
     return float(2.0 ** (np.round(np.log2(link_length) * 1024) / 1024))
 
 
-def build_surface(
-    outline: FloatArray,
-    mode: str,
-    thickness: float,
-    arc_needed: float,
-    mirror: bool,
-    link_length: float,
-) -> Surface:
-    """Lap curves for a validated ccw outline (mirrored in x first for cw wraps).
+def build_surface(outline: FloatArray, mode: str, mirror: bool, link_length: float) -> Surface:
+    """The first lap's support for a validated ccw outline (mirrored in x first for cw wraps).
 
     ``"taut"``: lap 0 is the convex hull. ``"hug"``: lap 0 is the boundary of the
     outline's closing by a disc of diameter ``link_length`` (concavities
     narrower than a link are bridged, wider ones followed), the diameter
-    rounded to 0.07 % so that nearby link lengths share a surface.
+    rounded to 0.07 % so that nearby link lengths share a surface. Later laps
+    lie on the chain itself (built by the walk).
     """
     if mirror:
         outline = np.ascontiguousarray((outline * [-1.0, 1.0])[::-1])
-    if thickness == 0:
-        arc_needed = 0.0
-    else:  # bucket so that nearby chain lengths share a cached surface
-        arc_needed = float(2.0 ** np.ceil(np.log2(max(arc_needed, 1e-300))))
     key_l = _radius_bucket(link_length) if mode == "hug" else 0.0
-    return _build(outline.tobytes(), len(outline), mode, float(thickness), arc_needed, key_l)
+    return _build(outline.tobytes(), len(outline), mode, key_l)
 
 
 def point_at_fraction(outline: FloatArray, fractions: FloatArray) -> FloatArray:
