@@ -37,7 +37,7 @@ SETTINGS = {
     "mode": "both",
 }
 #: Training wraps per class (short chains see less of each lap, so get more).
-PER_CLASS = {16: 800}
+PER_CLASS = {16: 1600}
 DEFAULT_PER_CLASS = 400
 
 
