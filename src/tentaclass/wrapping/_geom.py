@@ -300,3 +300,73 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
         if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last):
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
+
+
+@nb.njit(cache=True)
+def _nearest_edge_point(x, y, obj):
+    """Nearest point of the closed polyline ``obj`` to ``(x, y)``: ``(edge, t, px, py)``."""
+    m = obj.shape[0]
+    best = np.inf
+    be, bt, bx, by = 0, 0.0, obj[0, 0], obj[0, 1]
+    for i in range(m):
+        i2 = i + 1 if i + 1 < m else 0
+        x0, y0 = obj[i, 0], obj[i, 1]
+        dx, dy = obj[i2, 0] - x0, obj[i2, 1] - y0
+        A = dx * dx + dy * dy
+        t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
+        t = min(max(t, 0.0), 1.0)
+        cx, cy = x0 + t * dx, y0 + t * dy
+        d = (cx - x) ** 2 + (cy - y) ** 2
+        if d < best:
+            best = d
+            be, bt, bx, by = i, t, cx, cy
+    return be, bt, bx, by
+
+
+@nb.njit(cache=True)
+def meets_outside_stretch(ax, ay, bx, by, obj, tol):
+    """True if segment a-b meets the outline outside the stretch between a and b.
+
+    The stretch runs counter-clockwise from the outline point nearest ``a``
+    to the one nearest ``b`` (nothing if that is more than half the outline
+    round: the segment points backwards). A meeting point within ``tol`` of
+    either nearest point counts as inside the stretch.
+    """
+    m = obj.shape[0]
+    lox, hix = min(ax, bx) - tol, max(ax, bx) + tol
+    loy, hiy = min(ay, by) - tol, max(ay, by) + tol
+    dx, dy = bx - ax, by - ay
+    found = False
+    pa, pb, span = 0.0, 0.0, 0.0
+    pax, pay, pbx, pby = 0.0, 0.0, 0.0, 0.0
+    for i in range(m):
+        i2 = i + 1 if i + 1 < m else 0
+        px, py = obj[i, 0], obj[i, 1]
+        qx, qy = obj[i2, 0], obj[i2, 1]
+        if (px < lox and qx < lox) or (px > hix and qx > hix):
+            continue
+        if (py < loy and qy < loy) or (py > hiy and qy > hiy):
+            continue
+        ex, ey = qx - px, qy - py
+        den = dx * ey - dy * ex
+        if den == 0.0:
+            continue
+        s = ((px - ax) * ey - (py - ay) * ex) / den  # along a-b
+        t = ((px - ax) * dy - (py - ay) * dx) / den  # along the edge
+        if not (0.0 <= s <= 1.0 and 0.0 <= t <= 1.0):
+            continue
+        if not found:
+            found = True
+            ea, ta, pax, pay = _nearest_edge_point(ax, ay, obj)
+            eb, tb, pbx, pby = _nearest_edge_point(bx, by, obj)
+            pa, pb = ea + ta, eb + tb
+            span = (pb - pa) % m
+            if span > 0.5 * m:
+                span = 0.0
+        if (i + t - pa) % m <= span:
+            continue
+        mx, my = ax + s * dx, ay + s * dy
+        if np.hypot(mx - pax, my - pay) <= tol or np.hypot(mx - pbx, my - pby) <= tol:
+            continue
+        return True
+    return False

@@ -40,6 +40,7 @@ from ._geom import (
     free_direction_links,
     inside,
     locate,
+    meets_outside_stretch,
 )
 
 __all__ = ["crosses", "locate", "walk", "walk_many"]
@@ -516,6 +517,10 @@ def walk(
                 cross = crossing_edge_range(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt) >= 0
             else:
                 cross = _blocked(ax, ay, xx, xy, k, obj, eps, joints, a0, i)
+        elif check == 3 and k <= 0:
+            # a chord between two points resting on the support may cut the
+            # object's cap between them, and nothing else of it
+            cross = meets_outside_stretch(ax, ay, xx, xy, obj, np.sqrt(eps))
         if cross:
             overhang = True
             if check == 3 or k >= 1:  # look further along for a point the link can reach
@@ -703,6 +708,24 @@ def walk(
             nv = _put(tp, tth, tlev, tdev, nv, xx, xy, phi[i], x_lap, x_dv, exact)
         elif k >= 0 or x_sup:
             a0 = i
+            # The chain's track begins at S_0: where the approach passed over
+            # support that bulges beyond the line from S_0 to this joint, the
+            # envelope keeps that support (a later lap lies on it, not
+            # through it).
+            ux, uy = xx - spt[0, 0], xy - spt[0, 1]
+            ck, cj = sk, sj
+            while k >= 0 and not (ck == k and cj == j):
+                s2 = _curve_segment(ck, cj, pts, off, theta, dev, es, spt, th0, base, app_th)
+                if ck >= 0 and ux * (s2[3] - spt[0, 1]) - uy * (s2[2] - spt[0, 0]) < -exact * ln:
+                    if nv == tp.shape[0]:
+                        tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
+                        stale = True
+                    nv = _put(tp, tth, tlev, tdev, nv, s2[2], s2[3], s2[4], s2[7],
+                              0.0 if s2[5] <= exact else np.inf, exact)  # fmt: skip
+                cj += 1
+                if cj >= s2[6]:
+                    ck += 1
+                    cj = 0
             if nv == tp.shape[0]:
                 tp, tth, tlev, tdev = _grown(tp, tth, tlev, tdev, nv)
                 stale = True
