@@ -324,49 +324,119 @@ def _nearest_edge_point(x, y, obj):
 
 
 @nb.njit(cache=True)
-def meets_outside_stretch(ax, ay, bx, by, obj, tol):
+def edge_grid(obj, h):
+    """The outline's edges binned in square cells of side ``h``.
+
+    Returns ``(start, idx, info)``: the edges of cell ``c`` are
+    ``idx[start[c]:start[c + 1]]`` (an edge in every cell its bounding box
+    touches); ``info`` holds the grid's corner, ``h`` and its cells along x
+    and y.
+    """
+    m = obj.shape[0]
+    x0, y0 = obj[:, 0].min(), obj[:, 1].min()
+    nx = int((obj[:, 0].max() - x0) / h) + 1
+    ny = int((obj[:, 1].max() - y0) / h) + 1
+    count = np.zeros(nx * ny + 1, np.int64)
+    for sweep in range(2):
+        if sweep == 1:
+            for c in range(nx * ny):
+                count[c + 1] += count[c]
+            idx = np.empty(count[nx * ny], np.int64)
+            fill = count.copy()
+        for i in range(m):
+            i2 = i + 1 if i + 1 < m else 0
+            cx0 = int((min(obj[i, 0], obj[i2, 0]) - x0) / h)
+            cx1 = min(int((max(obj[i, 0], obj[i2, 0]) - x0) / h), nx - 1)
+            cy0 = int((min(obj[i, 1], obj[i2, 1]) - y0) / h)
+            cy1 = min(int((max(obj[i, 1], obj[i2, 1]) - y0) / h), ny - 1)
+            for cx in range(cx0, cx1 + 1):
+                for cy in range(cy0, cy1 + 1):
+                    c = cy * nx + cx
+                    if sweep == 0:
+                        count[c + 1] += 1
+                    else:
+                        idx[fill[c]] = i
+                        fill[c] += 1
+    return count, idx, np.array([x0, y0, h, nx, ny])
+
+
+@nb.njit(cache=True)
+def meets_outside_stretch(ax, ay, bx, by, obj, tol, near, grid):
     """True if segment a-b meets the outline outside the stretch between a and b.
 
     The stretch runs counter-clockwise from the outline point nearest ``a``
     to the one nearest ``b`` (nothing if that is more than half the outline
     round: the segment points backwards). A meeting point within ``tol`` of
-    either nearest point counts as inside the stretch.
+    either nearest point counts as inside the stretch. ``near``: a distance
+    within which ``a`` and ``b`` are expected to lie of the outline (only
+    the edges that close are searched for their nearest points, unless none
+    is). ``grid``: the outline's :func:`edge_grid`.
     """
     m = obj.shape[0]
-    lox, hix = min(ax, bx) - tol, max(ax, bx) + tol
-    loy, hiy = min(ay, by) - tol, max(ay, by) + tol
+    r = near + tol
+    lox, hix = min(ax, bx) - r, max(ax, bx) + r
+    loy, hiy = min(ay, by) - r, max(ay, by) + r
     dx, dy = bx - ax, by - ay
-    found = False
-    pa, pb, span = 0.0, 0.0, 0.0
-    pax, pay, pbx, pby = 0.0, 0.0, 0.0, 0.0
-    for i in range(m):
-        i2 = i + 1 if i + 1 < m else 0
-        px, py = obj[i, 0], obj[i, 1]
-        qx, qy = obj[i2, 0], obj[i2, 1]
-        if (px < lox and qx < lox) or (px > hix and qx > hix):
+    hits = np.empty(8)
+    hx = np.empty(8)
+    hy = np.empty(8)
+    nh = 0
+    da, db = np.inf, np.inf
+    pa, pb, pax, pay, pbx, pby = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    gx0, gy0, h, gnx, gny = grid[2][0], grid[2][1], grid[2][2], int(grid[2][3]), int(grid[2][4])
+    cx0, cx1 = max(int((lox - gx0) // h), 0), min(int((hix - gx0) // h), gnx - 1)
+    cy0, cy1 = max(int((loy - gy0) // h), 0), min(int((hiy - gy0) // h), gny - 1)
+    for gy in range(cy0, cy1 + 1):
+        for gx in range(cx0, cx1 + 1):
+            c = gy * gnx + gx
+            for q in range(grid[0][c], grid[0][c + 1]):
+                i = grid[1][q]
+                i2 = i + 1 if i + 1 < m else 0
+                px, py = obj[i, 0], obj[i, 1]
+                qx, qy = obj[i2, 0], obj[i2, 1]
+                if (px < lox and qx < lox) or (px > hix and qx > hix):
+                    continue
+                if (py < loy and qy < loy) or (py > hiy and qy > hiy):
+                    continue
+                ex, ey = qx - px, qy - py
+                A = ex * ex + ey * ey
+                for end in range(2):
+                    x, y = (ax, ay) if end == 0 else (bx, by)
+                    t = ((x - px) * ex + (y - py) * ey) / A if A > 0 else 0.0
+                    t = min(max(t, 0.0), 1.0)
+                    cx, cy = px + t * ex, py + t * ey
+                    d = (cx - x) ** 2 + (cy - y) ** 2
+                    if end == 0 and d < da:
+                        da, pa, pax, pay = d, i + t, cx, cy
+                    elif end == 1 and d < db:
+                        db, pb, pbx, pby = d, i + t, cx, cy
+                den = dx * ey - dy * ex
+                if den == 0.0:
+                    continue
+                s = ((px - ax) * ey - (py - ay) * ex) / den  # along a-b
+                t = ((px - ax) * dy - (py - ay) * dx) / den  # along the edge
+                if 0.0 <= s <= 1.0 and 0.0 <= t <= 1.0:
+                    if nh == hits.shape[0]:
+                        hits = np.concatenate((hits, np.empty(nh)))
+                        hx = np.concatenate((hx, np.empty(nh)))
+                        hy = np.concatenate((hy, np.empty(nh)))
+                    hits[nh], hx[nh], hy[nh] = i + t, ax + s * dx, ay + s * dy
+                    nh += 1
+    if nh == 0:
+        return False
+    if da > r * r:
+        e, t, pax, pay = _nearest_edge_point(ax, ay, obj)
+        pa = e + t
+    if db > r * r:
+        e, t, pbx, pby = _nearest_edge_point(bx, by, obj)
+        pb = e + t
+    span = (pb - pa) % m
+    if span > 0.5 * m:
+        span = 0.0
+    for g in range(nh):
+        if (hits[g] - pa) % m <= span:
             continue
-        if (py < loy and qy < loy) or (py > hiy and qy > hiy):
-            continue
-        ex, ey = qx - px, qy - py
-        den = dx * ey - dy * ex
-        if den == 0.0:
-            continue
-        s = ((px - ax) * ey - (py - ay) * ex) / den  # along a-b
-        t = ((px - ax) * dy - (py - ay) * dx) / den  # along the edge
-        if not (0.0 <= s <= 1.0 and 0.0 <= t <= 1.0):
-            continue
-        if not found:
-            found = True
-            ea, ta, pax, pay = _nearest_edge_point(ax, ay, obj)
-            eb, tb, pbx, pby = _nearest_edge_point(bx, by, obj)
-            pa, pb = ea + ta, eb + tb
-            span = (pb - pa) % m
-            if span > 0.5 * m:
-                span = 0.0
-        if (i + t - pa) % m <= span:
-            continue
-        mx, my = ax + s * dx, ay + s * dy
-        if np.hypot(mx - pax, my - pay) <= tol or np.hypot(mx - pbx, my - pby) <= tol:
+        if np.hypot(hx[g] - pax, hy[g] - pay) <= tol or np.hypot(hx[g] - pbx, hy[g] - pby) <= tol:
             continue
         return True
     return False

@@ -36,6 +36,7 @@ from ._geom import (
     crossing_edge,
     crossing_edge_range,
     crossing_link,
+    edge_grid,
     free_direction,
     free_direction_links,
     inside,
@@ -403,6 +404,7 @@ def walk(
     exact,
     bridge_limit,
     vidx,
+    grid,
     joints,
     contact,
     lap,
@@ -420,7 +422,10 @@ def walk(
     track rather than folding back over it. ``vidx`` (taut): the outline
     index of each hull vertex; a link between two points of the first lap's
     hull is then only tested against the outline between the hull vertices
-    around it (the only part of the object its hull cap can hold).
+    around it (the only part of the object its hull cap can hold). With
+    ``check`` 3 a chord between two points resting on the support is tested
+    too: it may meet the outline only within the stretch between its joints
+    (``grid``: the outline's edges binned, see :func:`_geom.edge_grid`).
     ``thick``: the chain's thickness, by which each lap lies outside the
     links of the one before. Returns ``(status, n_placed, phi_virtual)``.
     """
@@ -520,7 +525,7 @@ def walk(
         elif check == 3 and k <= 0:
             # a chord between two points resting on the support may cut the
             # object's cap between them, and nothing else of it
-            cross = meets_outside_stretch(ax, ay, xx, xy, obj, np.sqrt(eps))
+            cross = meets_outside_stretch(ax, ay, xx, xy, obj, np.sqrt(eps), 2.0 * slack, grid)
         if cross:
             overhang = True
             if check == 3 or k >= 1:  # look further along for a point the link can reach
@@ -770,6 +775,8 @@ def walk_many(
     status = np.empty(b, np.int64)
     placed = np.empty(b, np.int64)
     phi_v = np.empty(b)
+    # the outline's edges in cells of a link or more (hug tests each chord locally)
+    grid = edge_grid(obj, max(ls.max() if b > 0 else 0.0, 1e-9 * (obj.max() - obj.min())))
     for q in range(b):
         s, p, v = walk(
             n,
@@ -793,6 +800,7 @@ def walk_many(
             exact,
             bridge_limit,
             vidx,
+            grid,
             joints[q],
             contact[q],
             lap[q],
