@@ -252,7 +252,7 @@ def blocked(ax, ay, bx, by, obj, eps, joints, last):
 
 
 @nb.njit(cache=True)
-def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
+def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, grid=None, near=0.0):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
     The link pivots on ``a`` and stops where it first rests on the object or on
@@ -261,7 +261,10 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
     rests on them, tip in the air), and the points of the outline and of the
     earlier links at distance ``ln`` (the tip rests there). Returns
     ``(found, tip_x, tip_y, tip_on_outline)``; ``found`` is False when every
-    direction up to a half turn clockwise is blocked.
+    direction up to a half turn clockwise is blocked. With the outline's
+    ``grid`` (:func:`edge_grid`), a link that meets the outline outside the
+    stretch between its ends counts as blocked too (``near``: as in
+    :func:`meets_outside_stretch`).
     """
     m = obj.shape[0]
     size = 3 * m + 3 * (last + 1) + 65
@@ -298,6 +301,10 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
             continue
         if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last):
+            if grid is not None and meets_outside_stretch(
+                ax, ay, px[t], py[t], obj, np.sqrt(eps), near, grid
+            ):
+                continue
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
 

@@ -657,6 +657,17 @@ def walk(
                 if not ok:
                     xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
                     tip_on = False
+            if (
+                check == 3
+                and max(wk, k) < 1
+                and meets_outside_stretch(ax, ay, xx, xy, obj, np.sqrt(eps), 2.0 * slack, grid)
+            ):
+                # resting on the outline behind its joints: turn on to where it rests fairly
+                ok, tx, ty, t_on = free_direction_links(
+                    ax, ay, xx - ax, xy - ay, ln, obj, eps, joints, i - 1, grid, 2.0 * slack
+                )
+                if ok:
+                    xx, xy, tip_on = tx, ty, t_on
             if best == np.inf:
                 wj -= 1  # the cursor stays on its own segment
             # cursor: the segment after vertex w
