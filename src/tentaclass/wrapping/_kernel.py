@@ -475,6 +475,9 @@ def walk(
     phi[0] = app_th if approach else phi_v
     status = STATUS_COMPLETE
     placed = 0
+    # the last link rested in the air with the cursor left where it was: the
+    # next one must not reach back to the cursor (the joint before) itself
+    stay = False
     for i in range(1, n + 1):
         nvb[0] = tn[i - 2] if i >= 2 else 0
         if stale:
@@ -484,7 +487,8 @@ def walk(
         sk, sj, spx, spy = k, j, px, py
         # on the chain the next joint is near: further on, it would overtake itself
         limit = max_search if k < 1 else 3.0 * ln
-        r = _search(ax, ay, ln, k, j, px, py, False, slack, limit, trk)
+        r = _search(ax, ay, ln, k, j, px, py, stay, slack, limit, trk)
+        stay = False
         if r[0] != 0:
             # nothing of the track at a link's length ahead: the link folds in
             xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
@@ -618,6 +622,7 @@ def walk(
                     ck += 1
                     cj = 0
             if best == np.inf:  # nothing passed: rest where the cursor is
+                stay = True
                 wk, wj, wx, wy, w_th = sk, sj, spx, spy, a_th
                 xx, xy = ax + ux, ay + uy
             else:
