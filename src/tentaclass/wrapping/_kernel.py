@@ -654,8 +654,11 @@ def walk(
                 if not ok:  # wedged
                     xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
                     tip_on = False
-            if max(wk, k) >= 1 and _blocked(ax, ay, xx, xy, 1, obj, eps, joints, a0, i):
-                # on the chain: turn on until the link rests on the object or a link
+            # on the chain (and in the air over the first lap when hugging, where
+            # the links before may fold): turn on until the link rests on the
+            # object or a link
+            on_chain = max(wk, k) >= 1 or check == 3
+            if on_chain and _blocked(ax, ay, xx, xy, 1, obj, eps, joints, a0, i):
                 ok, xx, xy, tip_on = free_direction_links(
                     ax, ay, xx - ax, xy - ay, ln, obj, eps, joints, i - 1
                 )
