@@ -99,6 +99,11 @@ class ProbabilisticCore:
         """
         return self._decide(self._joint_log_likelihood(self._check_X(X)))
 
+    def _predict_with_proba(self, X: ArrayLike) -> tuple[np.ndarray, FloatArray]:
+        """``predict(X)`` and ``predict_proba(X)`` from one evaluation of the class scores."""
+        jll = self._joint_log_likelihood(self._check_X(X))
+        return self._decide(jll), np.exp(jll - _logsumexp_rows(jll))
+
     def _decide(self, jll: FloatArray) -> np.ndarray:
         """Labels from log scores: the most probable class (Bayes rule)."""
         return self.classes_[np.argmax(jll, axis=1)]

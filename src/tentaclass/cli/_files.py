@@ -20,6 +20,7 @@ import numpy as np
 
 from .._dask import atomic_output
 from .._lazy import import_extra
+from ..io._deploy import predict_with_proba
 from ..report import classification_table
 from .options import read_angle_file
 
@@ -122,7 +123,7 @@ def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int
             if not np.all(np.isfinite(X)):
                 row = done + int(np.flatnonzero(~np.isfinite(X).all(axis=1))[0])
                 raise ValueError(f"{src}: array {row} holds NaN or infinite angles")
-            table = classification_table(model.predict(X), model.predict_proba(X), model.classes_)
+            table = classification_table(*predict_with_proba(model, X), model.classes_)
             table["index"] = table["index"] + done
             batch = pa.table(table)
             if writer is None:

@@ -143,6 +143,7 @@ def classify(
     """
     from .._validation import as_angle_array
     from ..io import best_class_score, check_chain_length
+    from ..io._deploy import predict_with_proba
     from ..report import classification_table, table_to_json
 
     if files is not None or scheduler is not None:
@@ -165,8 +166,8 @@ def classify(
         name = f"the model {model_file.name}"
         n_in = getattr(model, "n_features_in_", None)
         check_chain_length(X, info, n_in if isinstance(n_in, int) else X.shape[1], name)
-    labels = model.predict(X).astype(object)
-    proba = model.predict_proba(X)
+    labels, proba = predict_with_proba(model, X)
+    labels = labels.astype(object)
     own = getattr(model, "reject", None)
     if own is not None and reject_below is None:
         # a recogniser that rejects by itself answers "unknown" in predict already

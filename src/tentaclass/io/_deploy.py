@@ -10,6 +10,7 @@ class score. The package ships such models for the thesis's four classes
 
 from __future__ import annotations
 
+import inspect
 import re
 from functools import lru_cache
 from importlib.resources import as_file, files
@@ -18,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_angle_array
+from .._validation import as_angle_array, check_fitted_X
 from ..errors import InputError
 from ._model_file import load_model, model_info
 
@@ -154,6 +155,61 @@ def _final_scorer(model: Any) -> tuple[list, Any]:
     if isinstance(steps, list) and steps:
         return [step for _, step in steps[:-1]], steps[-1][1]
     return [], inner
+
+
+def predict_with_proba(model: Any, X: ArrayLike) -> tuple[np.ndarray, FloatArray]:
+    """``model.predict(X)`` and ``model.predict_proba(X)``, the class scores computed once.
+
+    The labels are those ``predict`` gives, rejection included (``unknown``
+    where the model rejects), and the probabilities those of
+    ``predict_proba``, to the last bit: the arrays pass through a pipeline's
+    transforms once, and the classifier's scores are evaluated once for both
+    when it is a :class:`~tentaclass.classifiers.TentacleClassifier` or a
+    classifier of per-class log scores (a PNN, an RBF network); any other
+    final classifier is asked for both in turn.
+
+    Parameters
+    ----------
+    model : fitted classifier
+        An estimator, a ``Pipeline`` or a :class:`~tentaclass.classifiers.FourierClassifier`,
+        or what :func:`~tentaclass.io._light.load_light` reads.
+    X : array_like of shape (n_samples, n_joints)
+        In memory (not a dask array).
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,)
+    proba : ndarray of shape (n_samples, n_classes)
+        Columns in the order of ``model.classes_``.
+
+    Examples
+    --------
+    >>> from tentaclass.classifiers import FourierClassifier
+    >>> from tentaclass.datasets import thesis_tentacle
+    >>> X, y = thesis_tentacle(16, return_X_y=True)
+    >>> model = FourierClassifier(spread=0.5).fit(X, y)
+    >>> labels, proba = predict_with_proba(model, X)
+    >>> labels.tolist() == model.predict(X).tolist(), bool((proba == model.predict_proba(X)).all())
+    (True, True)
+    """
+    from ..classifiers import TentacleCore
+    from ..classifiers._prob_core import ProbabilisticCore
+
+    steps, final = _final_scorer(model)
+    if steps and hasattr(model, "pipeline_"):  # a FourierClassifier checks X first
+        X = check_fitted_X(model, X)
+    for step in steps:
+        if step is not None and not (isinstance(step, str) and step == "passthrough"):
+            X = step.transform(X)
+    if isinstance(final, TentacleCore) and hasattr(final, "_scores"):
+        s, closed, _, novelty = final._scores(X)
+        return final._labels_of(s, novelty), final._proba_of(s, closed)
+    if isinstance(final, ProbabilisticCore) and all(
+        inspect.unwrap(getattr(type(final), name)) is getattr(ProbabilisticCore, name)
+        for name in ("predict", "predict_proba", "predict_log_proba")
+    ):
+        return final._predict_with_proba(X)
+    return final.predict(X), final.predict_proba(X)
 
 
 def best_class_score(model: Any, X: ArrayLike) -> FloatArray:

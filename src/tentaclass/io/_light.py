@@ -225,12 +225,15 @@ class _Tentacle(TentacleCore, _Light):
             _require(self.class_spread_.size in (0, len(self.classes_)))
             _require(self.class_spread_.size > 0 or not np.isfinite(self.reject_threshold_))
 
+    def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray, FloatArray]:
+        return self._checked_scores(_check_rows(self, X))
+
     def predict(self, X: ArrayLike) -> np.ndarray:
-        s, _, _, novelty = self._checked_scores(_check_rows(self, X))
+        s, _, _, novelty = self._scores(X)
         return self._labels_of(s, novelty)
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
-        return self._proba_of(*self._checked_scores(_check_rows(self, X))[:2])
+        return self._proba_of(*self._scores(X)[:2])
 
 
 class _EarlierTentacle(_Tentacle):
