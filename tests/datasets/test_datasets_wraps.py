@@ -156,3 +156,39 @@ def test_synthetic_return_x_y_and_modes():
 def test_mpeg7_bad_protocol(mpeg7_folder):
     with pytest.raises(ValueError, match="protocol"):
         mpeg7_tentacle(mpeg7_folder, 16, protocol="tuned")
+
+
+def test_wrap_cache_misses_after_an_upgrade(mpeg7_folder, tmp_path, monkeypatch):
+    import tentaclass
+    from tentaclass.datasets import _wraps
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    folder = tmp_path / "a"
+    folder.mkdir()
+    shutil.copy(mpeg7_folder / "apple-1.png", folder / "apple-1.png")
+    kw = {"protocol": "fixed-chain", "laps": (1.2, 1.5)}
+    store = tmp_path / "cache" / "tentaclass"
+    first = mpeg7_tentacle(folder, 16, **kw)
+    assert len(list(store.glob("mpeg7-wraps-*.npz"))) == 1
+    mpeg7_tentacle(folder, 16, **kw)
+    assert len(list(store.glob("mpeg7-wraps-*.npz"))) == 1  # read back: no new entry
+
+    # wraps cached by another protocol version are not read: a poisoned entry proves it
+    (cached,) = store.glob("mpeg7-wraps-*.npz")
+    with np.load(cached) as f:
+        entry = dict(f)
+    np.savez(cached, **{**entry, "angles": np.zeros_like(entry["angles"])})
+    assert np.all(mpeg7_tentacle(folder, 16, **kw).data == 0)  # the same version reads it
+    monkeypatch.setattr(_wraps, "_WRAPS_VERSION", _wraps._WRAPS_VERSION + 1)
+    np.testing.assert_array_equal(mpeg7_tentacle(folder, 16, **kw).data, first.data)
+    assert len(list(store.glob("mpeg7-wraps-*.npz"))) == 2
+    monkeypatch.setattr(tentaclass, "__version__", tentaclass.__version__ + ".post1")
+    np.testing.assert_array_equal(mpeg7_tentacle(folder, 16, **kw).data, first.data)
+    assert len(list(store.glob("mpeg7-wraps-*.npz"))) == 3
+    # nor outlines decoded by another version
+    from tentaclass.shapes._images import _cache_file
+
+    files = [folder / "apple-1.png"]
+    named = _cache_file(store, files, 1000)
+    monkeypatch.setattr(tentaclass, "__version__", tentaclass.__version__ + ".post2")
+    assert _cache_file(store, files, 1000) != named

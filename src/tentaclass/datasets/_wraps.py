@@ -402,8 +402,26 @@ def _generator_digest() -> str:
     return h.hexdigest()[:16]
 
 
+#: Version of the cached wraps' protocols (what the draws and the search mean); raised
+#: whenever they change in a way the generator's source does not show.
+_WRAPS_VERSION = 1
+
+
 def _cache_dir() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "tentaclass"
+
+
+def _wrap_cache_key(folder: str | Path, params: dict) -> dict:
+    """The wrap cache's key: the parameters, the folder's files and the code that made them.
+
+    The package version, ``_WRAPS_VERSION`` and the hash of the
+    generator's source: wraps cached by another version of any of them are
+    never read.
+    """
+    from .. import __version__
+
+    return {**params, "version": __version__, "wraps_version": _WRAPS_VERSION,
+            "code": _generator_digest(), **_folder_key(folder)}  # fmt: skip
 
 
 def _cache_path(key: dict) -> Path:
@@ -648,9 +666,11 @@ def mpeg7_tentacle(
         Outlines are resampled to at most this many vertices first.
     cache : bool, default=True
         Keep the outlines and the noise-free wraps on disk
-        (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``). The key
-        covers the folder, every file's name, size and modification time, all
-        parameters but ``noise`` and the generator's code. ``False`` reads and
+        (``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``, files
+        ``mpeg7-wraps-*.npz``). The key covers the folder, every file's name,
+        size and modification time, all parameters but ``noise``, the package
+        version, the protocols' version and the generator's code, so an
+        upgrade never reads wraps an older version made. ``False`` reads and
         writes nothing; :func:`clear_cache` deletes the cached wraps.
     n_jobs : int, optional
         One-lap protocol: processes for the bisection, as in joblib (-1 all
@@ -707,12 +727,11 @@ def mpeg7_tentacle(
     offset = _range(offset, "offset", allow_zero=True)
     _check_random_state(random_state)
     outlines, labels, names = load_mpeg7(folder, max_vertices=max_vertices, cache=cache)
-    key = {"n": n_links, "mode": mode, "copies": copies, "seed": int(random_state),
-           "mv": max_vertices, "protocol": protocol, "code": _generator_digest(),
-           **_folder_key(folder)}  # fmt: skip
+    params = {"n": n_links, "mode": mode, "copies": copies, "seed": int(random_state),
+              "mv": max_vertices, "protocol": protocol}  # fmt: skip
     if protocol == "fixed-chain":
-        key.update(laps=list(laps), offset=list(offset))
-    path = _cache_path(key)
+        params.update(laps=list(laps), offset=list(offset))
+    path = _cache_path(_wrap_cache_key(folder, params))
     n_shapes = len(outlines)
     if cache and path.exists():
         with np.load(path, allow_pickle=False) as f:

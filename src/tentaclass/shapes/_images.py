@@ -105,7 +105,10 @@ def read_silhouette(path: str | Path) -> np.ndarray:
 
 
 def _cache_file(cache_dir: Path, files: list[Path], max_vertices: int | None) -> Path:
-    h = hashlib.sha1(f"v1 {max_vertices}".encode())
+    """The outline cache's file: keyed on the files, ``max_vertices`` and the package version."""
+    from .. import __version__
+
+    h = hashlib.sha1(f"v1 {__version__} {max_vertices}".encode())
     for f in files:
         st = f.stat()
         h.update(f"{f.resolve()} {st.st_size} {st.st_mtime_ns}".encode())
@@ -193,7 +196,8 @@ def load_mpeg7(
         Keep the decoded outlines in an ``.npz`` file (True: under
         ``$XDG_CACHE_HOME/tentaclass`` or ``~/.cache/tentaclass``; a path: in that
         directory; False: decode every time). The cache key covers every file's
-        path, size and modification time, so edited files are decoded again.
+        path, size and modification time and the package version, so edited
+        files are decoded again, and so are all after an upgrade.
 
     Returns
     -------
