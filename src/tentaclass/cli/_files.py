@@ -117,12 +117,7 @@ def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int
     writer = None
     with atomic_output(dst, "wb") as fh, contextlib.ExitStack() as stack:
         for X in angle_blocks(src):
-            if X.shape[1] != n_joints:
-                raise ValueError(f"{src}: arrays of {X.shape[1]} joint angles, but the model "
-                                 f"expects {n_joints}")  # fmt: skip
-            if not np.all(np.isfinite(X)):
-                row = done + int(np.flatnonzero(~np.isfinite(X).all(axis=1))[0])
-                raise ValueError(f"{src}: array {row} holds NaN or infinite angles")
+            _check_block(src, X, n_joints, done)
             table = classification_table(*predict_with_proba(model, X), model.classes_)
             table["index"] = table["index"] + done
             batch = pa.table(table)
@@ -132,7 +127,31 @@ def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int
                 stack.callback(writer.close)  # before the file closes, also on failure
             writer.write_table(batch)
             done += X.shape[0]
+        if writer is None:  # no arrays: the columns alone, a valid empty table
+            k = len(model.classes_)
+            empty = pa.table(classification_table(np.zeros(0, str), np.zeros((0, k)),
+                                                  model.classes_))  # fmt: skip
+            if dst.suffix == ".parquet":
+                pq.write_table(empty, fh)
+            else:
+                pcsv.write_csv(empty, fh)
     return done
+
+
+def _check_block(src: Path, X: np.ndarray, n_joints: int | None, done: int) -> None:
+    """Refuse a block of another chain length, NaN or angles too large to be radians."""
+    if X.shape[1] != n_joints:
+        raise ValueError(f"{src}: arrays of {X.shape[1]} joint angles, but the model "
+                         f"expects {n_joints}")  # fmt: skip
+    bad = ~np.isfinite(X).all(axis=1)
+    if bad.any():
+        raise ValueError(f"{src}: array {done + int(np.flatnonzero(bad)[0])} holds NaN or "
+                         "infinite angles")  # fmt: skip
+    # as grasp_state counts the laps: a turn beyond 2**53 laps is not an angle in radians
+    huge = ~(np.abs(X).sum(axis=1) < 2.0**53 * 2 * np.pi)
+    if huge.any():
+        raise ValueError(f"{src}: array {done + int(np.flatnonzero(huge)[0])} turns by too many "
+                         "laps to count: are these joint angles in radians?")  # fmt: skip
 
 
 def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:
@@ -178,7 +197,8 @@ def _chain_length(path: Path) -> int | None:
     if suffix == ".parquet":
         return next(iter(angle_blocks(path, 1)), np.zeros((0, 0))).shape[1] or None
     if suffix == ".npy":
-        return next(iter(angle_blocks(path, 1))).shape[1]
+        first = next(iter(angle_blocks(path, 1)), None)
+        return None if first is None else first.shape[1]
     return None
 
 

@@ -48,9 +48,17 @@ class _Group(click.Group):
         with formatter.section("Commands"):
             formatter.write_dl(rows)
 
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        try:
+            return super().parse_args(ctx, args)
+        except click.UsageError as exc:
+            raise _one_line(exc) from None
+
     def invoke(self, ctx: click.Context) -> Any:
         try:
             return super().invoke(ctx)
+        except click.UsageError as exc:
+            raise _one_line(exc) from None
         except (TentaclassError, ValueError, OSError) as exc:
             raise click.ClickException(
                 str(exc).splitlines()[0] if str(exc) else repr(exc)
@@ -60,6 +68,19 @@ class _Group(click.Group):
             raise click.ClickException(
                 f"out of memory{detail} (check sizes and counts given as options or in the input)"
             ) from None
+
+
+def _one_line(exc: click.UsageError) -> click.UsageError:
+    """A usage error shown on one line, naming the command's help (exit code 2).
+
+    Asking for help (a command given no arguments that shows its help then)
+    is left as it is.
+    """
+    if isinstance(exc, click.exceptions.NoArgsIsHelpError):
+        return exc
+    message = " ".join(exc.format_message().split())
+    where = f" (see '{exc.ctx.command_path} -h')" if exc.ctx is not None else ""
+    return click.UsageError(message + where)  # without a context: the "Error:" line alone
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})

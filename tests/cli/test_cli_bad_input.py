@@ -1,0 +1,85 @@
+"""Wrong input gives one line and a non-zero exit code, never a traceback."""
+
+from importlib.resources import files
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from tentaclass.cli.main import cli
+
+
+def run(*args):
+    return CliRunner().invoke(cli, list(args), catch_exceptions=False, prog_name="tentaclass")
+
+
+def one_line(r):
+    lines = [line for line in r.output.splitlines() if line.strip()]
+    assert len(lines) == 1, r.output
+    assert lines[0].startswith("Error: ")
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    "args, command, message",
+    [
+        (["nosuch"], "tentaclass", "No such command 'nosuch'"),
+        (["--bogus"], "tentaclass", "No such option '--bogus'"),
+        (["wrap", "--links", "0"], "tentaclass wrap", "'--links': 0 is not in the range"),
+        (["wrap", "--shape", "circle", "--size", "nan"], "tentaclass wrap", "radius must be"),
+        (["wrap", "--shape", "polygon"], "tentaclass wrap", "--shape polygon needs --vertices"),
+        (["train"], "tentaclass train", "Missing option '--out'"),
+        (["train", "--data", "missing.npz", "--out", "m.tcm"], "tentaclass train", "missing.npz"),
+        (["classify", "nan 0 0"], "tentaclass classify", "'nan' is not a number"),
+        (["classify", "--reject-below", "2", "0 0 0 pi/2"], "tentaclass classify", "0<=x<=1"),
+        (["scan", "--simulate", "-3"], "tentaclass scan", "-3 is not in the range"),
+        (["bench", "--folds", "1"], "tentaclass bench", "1 is not in the range"),
+        (["demo", "--noise", "-1"], "tentaclass demo", "-1.0 is not in the range"),
+        (["serve", "--port", "-1"], "tentaclass serve", "-1 is not in the range"),
+    ],
+)
+def test_usage_errors_take_one_line(args, command, message):
+    r = run(*args)
+    assert r.exit_code == 2
+    line = one_line(r)
+    assert message in line
+    assert line.endswith(f"(see '{command} -h')")
+
+
+def test_no_command_still_shows_the_help():
+    r = run()
+    assert "Commands:" in r.output and "classify" in r.output
+
+
+def test_classify_files_empty_input_gives_an_empty_table(tmp_path):
+    import pyarrow as pa
+    import pyarrow.csv as pcsv
+    import pyarrow.parquet as pq
+
+    from tentaclass.io import bundled_links
+
+    n = bundled_links()[0]
+    model = str(files("tentaclass.data") / f"default-{n}.tcm")
+    src = tmp_path / "in"
+    src.mkdir()
+    np.save(src / "a.npy", np.zeros((0, n)))
+    pq.write_table(pa.table({f"q{i}": pa.array(np.zeros(0)) for i in range(n)}), src / "b.parquet")
+    columns = ["index", "label", "probability", "p_circle", "p_rectangle", "p_square", "p_triangle"]
+    for extra in ([], ["--model", model]):
+        out = tmp_path / f"out{len(extra)}"
+        r = run("classify", "--files", str(src / "*"), "--out-dir", str(out), *extra)
+        assert r.exit_code == 0, r.output
+        assert "0 arrays" in r.output
+        for table in (pcsv.read_csv(out / "a.labels.csv"), pq.read_table(out / "b.labels.parquet")):
+            assert table.num_rows == 0
+            assert table.column_names == columns
+
+
+def test_classify_files_refuses_angles_that_are_not_radians(tmp_path):
+    X = np.tile([0, 0, 0, np.pi / 2], (3, 4))
+    X[1] = 1e300
+    np.save(tmp_path / "a.npy", X)
+    r = run("classify", "--files", str(tmp_path / "a.npy"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 1
+    assert "array 1 turns by too many laps" in one_line(r)
+    assert not (tmp_path / "o" / "a.labels.csv").exists()
