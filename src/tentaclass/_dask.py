@@ -724,6 +724,18 @@ def read_parquet_rows(
 # -- one job per file ----------------------------------------------------------------------------
 
 
+def _umask() -> int:
+    """The process's file-creation mask, read without changing it where the system allows."""
+    with contextlib.suppress(OSError, ValueError, IndexError):
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 @contextlib.contextmanager
 def atomic_output(path: str | os.PathLike, mode: str = "w") -> Iterator[Any]:
     """Write ``path`` under a temporary name in its folder; rename it only on success.
@@ -731,6 +743,7 @@ def atomic_output(path: str | os.PathLike, mode: str = "w") -> Iterator[Any]:
     A reader never sees a half-written file under the final name: if the
     writer fails (or its process dies), the temporary file is removed (or left
     behind as ``.<name>.*.part``), and ``path`` keeps its old content, if any.
+    The file gets the permissions ``open(path, "w")`` would give it.
 
     Examples
     --------
@@ -745,6 +758,9 @@ def atomic_output(path: str | os.PathLike, mode: str = "w") -> Iterator[Any]:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
     try:
         with os.fdopen(fd, mode) as fh:
+            # the permissions open() would give (mkstemp's are the owner's alone)
+            keep = path.stat().st_mode & 0o7777 if path.exists() else 0o666 & ~_umask()
+            os.fchmod(fh.fileno(), keep)
             yield fh
         os.replace(tmp, path)
     except BaseException:

@@ -168,3 +168,24 @@ def test_out_of_memory_is_one_line_error(monkeypatch):
     assert r.exit_code == 1
     assert "out of memory: Unable to allocate 262. GiB" in r.output
     assert "Traceback" not in r.output and len(r.output.strip().splitlines()) == 1
+
+
+def test_classify_files_outputs_have_the_permissions_of_any_new_file(tmp_path):
+    import os
+
+    np.save(tmp_path / "a.npy", np.tile([0, 0, 0, np.pi / 2], (2, 4)))
+    args = ("classify", "--files", str(tmp_path / "a.npy"), "--out-dir", str(tmp_path / "o"))
+    old = os.umask(0o027)
+    try:
+        r = run(*args)
+        plain27 = tmp_path / "plain27.txt"
+        plain27.write_text("")
+    finally:
+        os.umask(old)
+    assert r.exit_code == 0, r.output
+    out = tmp_path / "o" / "a.labels.csv"
+    assert out.stat().st_mode & 0o777 == plain27.stat().st_mode & 0o777 == 0o640
+    # written again over an existing file: that file's permissions stay
+    out.chmod(0o604)
+    assert run(*args).exit_code == 0
+    assert out.stat().st_mode & 0o777 == 0o604
