@@ -83,3 +83,31 @@ def test_classify_files_refuses_angles_that_are_not_radians(tmp_path):
     assert r.exit_code == 1
     assert "array 1 turns by too many laps" in one_line(r)
     assert not (tmp_path / "o" / "a.labels.csv").exists()
+
+
+def test_train_refuses_angles_that_are_not_radians(tmp_path):
+    X = np.tile([0, 0, 0, np.pi / 2], (4, 4))
+    X[2, 5] = -1e300
+    np.savez(tmp_path / "d.npz", X=X, y=np.array(["a", "a", "b", "b"]))
+    r = run("train", "--data", str(tmp_path / "d.npz"), "--out", str(tmp_path / "m.tcm"))
+    assert r.exit_code == 1
+    assert "d.npz: array 2 turns by too many laps" in one_line(r)
+    assert not (tmp_path / "m.tcm").exists()
+
+
+def test_the_script_shows_warnings_on_one_line(tmp_path):
+    import subprocess
+    import sys
+
+    folder = tmp_path / "shapes"
+    folder.mkdir()
+    (folder / "a-1.png").write_bytes(b"not an image")
+    args = ["bench", "--dataset", "mpeg7", "--data-dir", str(folder)]
+    r = subprocess.run(
+        [sys.executable, "-m", "tentaclass", *args], capture_output=True, text=True, timeout=120
+    )
+    assert r.returncode == 1
+    lines = r.stderr.splitlines()
+    assert len(lines) == 2, r.stderr
+    assert lines[0].startswith("warning: load_mpeg7 skipped 1 unreadable image(s)")
+    assert lines[1].startswith("Error: no readable .png files")

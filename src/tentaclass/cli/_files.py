@@ -22,7 +22,7 @@ from .._dask import atomic_output
 from .._lazy import import_extra
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
-from .options import read_angle_file
+from .options import check_radians, read_angle_file
 
 #: Arrays read, featurised and classified per step.
 BLOCK_ROWS = 65536
@@ -147,11 +147,7 @@ def _check_block(src: Path, X: np.ndarray, n_joints: int | None, done: int) -> N
     if bad.any():
         raise ValueError(f"{src}: array {done + int(np.flatnonzero(bad)[0])} holds NaN or "
                          "infinite angles")  # fmt: skip
-    # as grasp_state counts the laps: a turn beyond 2**53 laps is not an angle in radians
-    huge = ~(np.abs(X).sum(axis=1) < 2.0**53 * 2 * np.pi)
-    if huge.any():
-        raise ValueError(f"{src}: array {done + int(np.flatnonzero(huge)[0])} turns by too many "
-                         "laps to count: are these joint angles in radians?")  # fmt: skip
+    check_radians(X, str(src), done)
 
 
 def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib
 import logging
 import sys
+import warnings
 from typing import Any
 
 import click
@@ -99,6 +100,16 @@ def cli(ctx: click.Context, verbose: int, quiet: bool) -> None:
     ctx.obj["quiet"] = quiet
 
 
+def _warning_line(
+    message: Warning | str, category: type[Warning], filename: str, lineno: int,
+    file: Any = None, line: str | None = None,
+) -> None:  # fmt: skip
+    """A warning as one line of stderr, as the errors are (no source line)."""
+    text = " ".join(str(message).split()) or category.__name__
+    click.echo(f"warning: {text}", err=True)
+
+
 def main() -> None:
     """Entry point of the ``tentaclass`` script."""
+    warnings.showwarning = _warning_line
     cli(prog_name="tentaclass")
