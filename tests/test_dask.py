@@ -471,5 +471,9 @@ def test_worker_dies_mid_job(client, data, tmp_path):
     ]
     for i in range(3):
         name = f"log{i}.labels.parquet"
-        assert (tmp_path / "out" / name).read_bytes() == (tmp_path / "ref" / name).read_bytes()
+        got, ref = (pq.read_table(tmp_path / d / name).to_pydict() for d in ("out", "ref"))
+        assert got.keys() == ref.keys() and got["label"] == ref["label"]
+        for key in got:  # the PNN's sums are tiled by thread count: the last bits may differ
+            if key.startswith("p"):
+                np.testing.assert_allclose(got[key], ref[key], rtol=1e-12, atol=1e-300)
     client.wait_for_workers(2, timeout=30)

@@ -189,3 +189,23 @@ def test_classify_files_outputs_have_the_permissions_of_any_new_file(tmp_path):
     out.chmod(0o604)
     assert run(*args).exit_code == 0
     assert out.stat().st_mode & 0o777 == 0o604
+
+
+@pytest.mark.parametrize("n_links", [16, 24])  # a bundled chain length, and one without
+def test_classify_files_answers_as_classify_without_a_model(tmp_path, n_links):
+    import pyarrow.csv as pcsv
+
+    from tentaclass.datasets import synthetic_tentacle
+
+    d = synthetic_tentacle(12, n_links, laps=(0.6, 2.5), noise=0.02, random_state=4)
+    np.save(tmp_path / "a.npy", d.data[np.isfinite(d.data).all(axis=1)])
+    one = json.loads(run("classify", "--json", "--file", str(tmp_path / "a.npy")).stdout)
+    r = run("classify", "--files", str(tmp_path / "a.npy"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 0, r.output
+    many = pcsv.read_csv(tmp_path / "o" / "a.labels.csv").to_pylist()
+    assert [row["label"] for row in many] == [row["label"] for row in one]
+    for a, b in zip(many, one, strict=True):
+        assert a.keys() == b.keys()
+        assert [a[k] for k in a if k.startswith("p")] == pytest.approx(
+            [b[k] for k in b if k.startswith("p")], rel=1e-12
+        )

@@ -107,11 +107,11 @@ def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int
     import pyarrow.csv as pcsv
     import pyarrow.parquet as pq
 
-    if model is None:  # the built-in model, for this file's chain length
-        from .classify import default_model
+    if model is None:  # what classify uses without --model, for this file's chain length
+        from .classify import builtin_model
 
         first = next(iter(angle_blocks(src, 1)), None)
-        model = default_model(first.shape[1] if first is not None else 3)
+        model, _ = builtin_model(first.shape[1] if first is not None else 3, note=False)
         n_joints = model.n_features_in_
     done = 0
     writer = None
@@ -202,7 +202,9 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
                    n_joints: int | None) -> list[tuple[Path, Path, int]]:  # fmt: skip
     """``classify --files``: every matching file -> ``out_dir/<stem>.labels.{parquet,csv}``.
 
-    With ``model`` None each file gets the built-in model for its chain length.
+    With ``model`` None each file gets the model ``classify`` uses without
+    ``--model`` for its chain length: the bundled one, else the one-lap
+    reference model.
     Files whose chain length differs from the model's are refused before any
     work starts (Parquet and ``.npy``; text files when they are read).
     """

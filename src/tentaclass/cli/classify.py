@@ -81,17 +81,23 @@ def _check_wraps(X: np.ndarray) -> None:
         )
 
 
-def _bundled_or_reference(n_links: int) -> tuple[Any, dict]:
+def builtin_model(n_links: int, *, note: bool = True) -> tuple[Any, dict]:
+    """The model and info ``classify`` uses without ``--model``, for ``n_links`` links.
+
+    The bundled model of that chain length, else the one-lap reference model
+    (:func:`default_model`), with a note on stderr if ``note``.
+    """
     from ..io._deploy import bundled_links, bundled_predictor
 
     if n_links in bundled_links():
         return bundled_predictor(n_links)
-    links = ", ".join(map(str, bundled_links()))
-    click.echo(
-        f"note: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
-        "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
-        err=True,
-    )
+    if note:
+        links = ", ".join(map(str, bundled_links()))
+        click.echo(
+            f"note: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
+            "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
+            err=True,
+        )
     return default_model(n_links), {}
 
 
@@ -159,7 +165,7 @@ def classify(
     X = as_angle_array(X, "angle array", min_joints=3)
     _check_wraps(X)
     if model_file is None:
-        model, info = _bundled_or_reference(X.shape[1])
+        model, info = builtin_model(X.shape[1])
         name = "the bundled model"
     else:
         model, info = model_from_file(model_file)
