@@ -10,8 +10,8 @@ from sklearn.pipeline import make_pipeline
 from tentaclass.classifiers import FourierClassifier, PNNCore, TentacleCore
 from tentaclass.datasets import chain_wraps, synthetic_tentacle, thesis_tentacle
 from tentaclass.features import FourierFeatures
-from tentaclass.io import bundled_model
-from tentaclass.io._deploy import predict_with_proba
+from tentaclass.io import best_class_score, bundled_model
+from tentaclass.io._deploy import _predict_once, predict_with_proba
 from tentaclass.io._light import load_light
 
 
@@ -58,7 +58,13 @@ def test_bundled_model_full_and_light(monkeypatch):
         calls = counting(monkeypatch, PNNCore, "_joint_log_likelihood")
         predict_with_proba(model, X)
         assert len(calls) == 1  # the PNN's scores once, not once for each answer
+        # and the best class score (classify --reject) from the same evaluation
+        labels, proba, best = _predict_once(model, X)
+        assert len(calls) == 2
         monkeypatch.undo()
+        np.testing.assert_array_equal(best, best_class_score(model, X))
+        np.testing.assert_array_equal(labels, model.predict(X))
+        np.testing.assert_array_equal(proba, model.predict_proba(X))
 
 
 def test_tentacle_classifier_with_rejection(default_recognisers, tmp_path, monkeypatch):

@@ -99,10 +99,10 @@ class ProbabilisticCore:
         """
         return self._decide(self._joint_log_likelihood(self._check_X(X)))
 
-    def _predict_with_proba(self, X: ArrayLike) -> tuple[np.ndarray, FloatArray]:
-        """``predict(X)`` and ``predict_proba(X)`` from one evaluation of the class scores."""
+    def _predict_with_proba(self, X: ArrayLike) -> tuple[np.ndarray, FloatArray, FloatArray]:
+        """``predict(X)``, ``predict_proba(X)`` and the log scores, evaluated once."""
         jll = self._joint_log_likelihood(self._check_X(X))
-        return self._decide(jll), np.exp(jll - _logsumexp_rows(jll))
+        return self._decide(jll), np.exp(jll - _logsumexp_rows(jll)), jll
 
     def _decide(self, jll: FloatArray) -> np.ndarray:
         """Labels from log scores: the most probable class (Bayes rule)."""

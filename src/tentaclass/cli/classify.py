@@ -149,7 +149,7 @@ def classify(
     """
     from .._validation import as_angle_array
     from ..io import best_class_score, check_chain_length
-    from ..io._deploy import predict_with_proba
+    from ..io._deploy import _predict_once
     from ..report import classification_table, table_to_json
 
     if files is not None or scheduler is not None:
@@ -172,7 +172,7 @@ def classify(
         name = f"the model {model_file.name}"
         n_in = getattr(model, "n_features_in_", None)
         check_chain_length(X, info, n_in if isinstance(n_in, int) else X.shape[1], name)
-    labels, proba = predict_with_proba(model, X)
+    labels, proba, best = _predict_once(model, X)
     labels = labels.astype(object)
     own = getattr(model, "reject", None)
     if own is not None and reject_below is None:
@@ -188,7 +188,8 @@ def classify(
         threshold = reject_below if reject_below is not None else info.get("reject_below")
         if not isinstance(threshold, int | float):
             raise ValueError(f"{name} has no rejection threshold of its own: give --reject-below")
-        labels[best_class_score(model, X) < threshold] = "unknown"
+        best = best if best is not None else best_class_score(model, X)
+        labels[best < threshold] = "unknown"
     table = classification_table(labels, proba, model.classes_)
     if as_json:
         click.echo(table_to_json(table))

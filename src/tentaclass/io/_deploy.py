@@ -192,7 +192,18 @@ def predict_with_proba(model: Any, X: ArrayLike) -> tuple[np.ndarray, FloatArray
     >>> labels.tolist() == model.predict(X).tolist(), bool((proba == model.predict_proba(X)).all())
     (True, True)
     """
-    from ..classifiers import TentacleCore
+    labels, proba, _ = _predict_once(model, X)
+    return labels, proba
+
+
+def _predict_once(model: Any, X: ArrayLike) -> tuple[np.ndarray, FloatArray, FloatArray | None]:
+    """:func:`predict_with_proba`, and :func:`best_class_score` where it comes for free.
+
+    The third value is ``best_class_score(model, X)`` when the final
+    classifier is a PNN (its class scores are the exponentials of the log
+    scores just computed), else ``None``.
+    """
+    from ..classifiers import PNNCore, TentacleCore
     from ..classifiers._prob_core import ProbabilisticCore
 
     steps, final = _final_scorer(model)
@@ -203,13 +214,17 @@ def predict_with_proba(model: Any, X: ArrayLike) -> tuple[np.ndarray, FloatArray
             X = step.transform(X)
     if isinstance(final, TentacleCore) and hasattr(final, "_scores"):
         s, closed, _, novelty = final._scores(X)
-        return final._labels_of(s, novelty), final._proba_of(s, closed)
+        return final._labels_of(s, novelty), final._proba_of(s, closed), None
     if isinstance(final, ProbabilisticCore) and all(
         inspect.unwrap(getattr(type(final), name)) is getattr(ProbabilisticCore, name)
         for name in ("predict", "predict_proba", "predict_log_proba")
     ):
-        return final._predict_with_proba(X)
-    return final.predict(X), final.predict_proba(X)
+        labels, proba, jll = final._predict_with_proba(X)
+        own = isinstance(final, PNNCore) and type(final).class_scores is PNNCore.class_scores
+        if own and not hasattr(model, "novelty_scores"):  # what best_class_score asks for
+            return labels, proba, np.max(np.exp(jll), axis=1)
+        return labels, proba, None
+    return final.predict(X), final.predict_proba(X), None
 
 
 def best_class_score(model: Any, X: ArrayLike) -> FloatArray:
