@@ -911,70 +911,95 @@ def _power_of_two(peak):
 
 
 @nb.njit(**_OPTS)
-def chord_turns(coords, ring_starts, n_points):
-    """Operands of the turning angles of a walk of ``n_points`` equal chords around each ring.
+def _ring_chord_turns(ring, n_points, walk, cross, dot):
+    """Operands of the turning angles of a walk of ``n_points`` equal chords around a ring.
 
-    Ring ``i`` is ``coords[ring_starts[i]:ring_starts[i + 1]]`` (closed
-    implicitly: no repeated first vertex). The walk is
-    :func:`tentaclass.geometry.resample_closed` of the ring and the angles
+    The ring has no repeated first vertex (it is closed implicitly). The walk
+    is :func:`tentaclass.geometry.resample_closed` of the ring and the angles
     :func:`tentaclass.geometry.points_to_angles` of the walk, ``arctan2(cross,
-    dot)``; this returns ``cross`` and ``dot`` of shape ``(n_rings,
-    n_points)``, with the same arithmetic, and whether two consecutive points
-    of some walk coincide (or a ring has no perimeter), where those functions
-    raise.
+    dot)``; this writes ``cross`` and ``dot`` (``n_points`` each) with the
+    same arithmetic, and returns False where two consecutive points of the
+    walk coincide (or the ring has no perimeter), where those functions raise.
+    ``walk`` is scratch of shape ``(n_points, 2)``.
+    """
+    m = ring.shape[0]
+    peak = 0.0
+    for j in range(m):
+        peak = max(peak, abs(ring[j, 0]), abs(ring[j, 1]))
+    scale = _power_of_two(peak)
+    p = np.empty((m + 1, 2))
+    for j in range(m):
+        p[j, 0] = ring[j, 0] / scale
+        p[j, 1] = ring[j, 1] / scale
+    p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
+    s = np.empty(m + 1)
+    s[0] = 0.0
+    for j in range(m):
+        s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
+    total = s[m]
+    if not total > 0:
+        return False
+    u = s / total
+    j = 0
+    peak = 0.0
+    for k in range(n_points):
+        t = k / n_points
+        while j < m and u[j + 1] <= t:  # searchsorted(u, t, "right") - 1, clipped
+            j += 1
+        j = min(j, m - 1)
+        u0, u1 = u[j], u[j + 1]
+        w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
+        for d in range(2):
+            walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
+            peak = max(peak, abs(walk[k, d]))
+    scale = _power_of_two(peak)
+    for k in range(n_points):
+        walk[k, 0] /= scale
+        walk[k, 1] /= scale
+    ok = True
+    for k in range(n_points):
+        k0 = k - 1 if k > 0 else n_points - 1
+        k2 = k + 1 if k < n_points - 1 else 0
+        px, py = walk[k, 0] - walk[k0, 0], walk[k, 1] - walk[k0, 1]
+        ex, ey = walk[k2, 0] - walk[k, 0], walk[k2, 1] - walk[k, 1]
+        if ex == 0 and ey == 0:
+            ok = False
+        cross[k] = px * ey - py * ex
+        dot[k] = px * ex + py * ey
+    return ok
+
+
+@nb.njit(error_model="numpy", **_OPTS)  # x / 0 is inf or NaN, as numpy gives it
+def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
+    """The hull group's scalars and chord-walk operands of closed hull rings, in one pass.
+
+    ``scalars`` ``(n, 5)``: rectangularity ``area / (long * short)``, aspect
+    ``short / long``, circularity ``4 pi area / perimeter**2``, circle fill
+    ``area / (pi radius**2)`` (area, perimeter and bounding radius as
+    :func:`hull_measures`) and pixel scale ``1 / sqrt(pixels)``, with numpy's
+    arithmetic; then ``cross`` and ``dot`` ``(n, n_points)``: the operands of the
+    turning angles of each ring's chord walk (:func:`_ring_chord_turns`), and
+    whether some walk is degenerate.
     """
     n = ring_starts.shape[0] - 1
+    scalars = np.empty((n, 5))
     cross = np.empty((n, n_points))
     dot = np.empty((n, n_points))
     walk = np.empty((n_points, 2))
     bad = False
     for i in range(n):
-        a, b = ring_starts[i], ring_starts[i + 1]
-        m = b - a
-        peak = 0.0
-        for j in range(a, b):
-            peak = max(peak, abs(coords[j, 0]), abs(coords[j, 1]))
-        scale = _power_of_two(peak)
-        p = np.empty((m + 1, 2))
-        for j in range(m):
-            p[j, 0] = coords[a + j, 0] / scale
-            p[j, 1] = coords[a + j, 1] / scale
-        p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
-        s = np.empty(m + 1)
-        s[0] = 0.0
-        for j in range(m):
-            s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
-        total = s[m]
-        if not total > 0:
+        ring = rings[ring_starts[i] : ring_starts[i + 1]]
+        area = abs(_ring_area_signed(ring))
+        perimeter = _ring_length(ring)
+        radius = bounding_radius(ring[:-1, 0], ring[:-1, 1])
+        scalars[i, 0] = area / (long[i] * short[i])
+        scalars[i, 1] = short[i] / long[i]
+        scalars[i, 2] = 4 * np.pi * area / (perimeter * perimeter)
+        scalars[i, 3] = area / (np.pi * (radius * radius))
+        scalars[i, 4] = 1.0 / np.sqrt(float(pixels[i]))
+        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i]):
             bad = True
-            continue
-        u = s / total
-        j = 0
-        peak = 0.0
-        for k in range(n_points):
-            t = k / n_points
-            while j < m and u[j + 1] <= t:  # searchsorted(u, t, "right") - 1, clipped
-                j += 1
-            j = min(j, m - 1)
-            u0, u1 = u[j], u[j + 1]
-            w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
-            for d in range(2):
-                walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
-                peak = max(peak, abs(walk[k, d]))
-        scale = _power_of_two(peak)
-        for k in range(n_points):
-            walk[k, 0] /= scale
-            walk[k, 1] /= scale
-        for k in range(n_points):
-            k0 = k - 1 if k > 0 else n_points - 1
-            k2 = k + 1 if k < n_points - 1 else 0
-            px, py = walk[k, 0] - walk[k0, 0], walk[k, 1] - walk[k0, 1]
-            ex, ey = walk[k2, 0] - walk[k, 0], walk[k2, 1] - walk[k, 1]
-            if ex == 0 and ey == 0:
-                bad = True
-            cross[i, k] = px * ey - py * ex
-            dot[i, k] = px * ex + py * ey
-    return cross, dot, bad
+    return scalars, cross, dot, bad
 
 
 # -- the minimum-area rectangle of GEOS (shapely.oriented_envelope), same arithmetic -------------
@@ -1220,6 +1245,54 @@ def min_area_rectangles(coords, ring_starts):
     for i in range(n):
         min_area_rectangle(coords[ring_starts[i] : ring_starts[i + 1]], out[i])
     return out
+
+
+@nb.njit(**_OPTS)
+def measure_cores(flat, starts, heights, widths, open_width):
+    """:func:`measure_batch`, then each object's core, hull and minimum rotated rectangle.
+
+    Objects whose rectangle's short side is at least ``open_width`` are
+    opened where that removes burrs (:func:`open_burrs`); their hulls and
+    rectangles are then those of the opened masks. Returns the filled masks
+    and the cores (flat, as ``flat``; the cores are ``filled`` itself when no
+    object changed), the hull rings of the cores' pixel squares (closed, one
+    after the other) and their starts, areas, row/column sums, rectangles
+    ``(n, 5, 2)`` and :func:`rectangle_sides` of them.
+    """
+    filled, coords, ring_starts, area, sums = measure_batch(flat, starts, heights, widths)
+    corners = min_area_rectangles(coords, ring_starts)
+    long, short, edge = rectangle_sides(corners)
+    candidates = np.flatnonzero(short >= open_width)
+    core, changed, opened, opened_starts = open_burrs(
+        filled, starts, heights, widths, candidates, coords, ring_starts
+    )
+    if opened_starts.shape[0] == 1:  # no core changed
+        return filled, core, coords, ring_starts, area, sums, corners, long, short, edge
+    n = heights.shape[0]
+    new_starts = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):  # the ring lengths, the opened ones where changed
+        new_starts[i + 1] = ring_starts[i + 1] - ring_starts[i]
+    k = 0
+    for i in range(n):
+        if changed[i]:
+            new_starts[i + 1] = opened_starts[k + 1] - opened_starts[k]
+            k += 1
+        new_starts[i + 1] += new_starts[i]
+    new = np.empty((new_starts[n], 2))
+    k = 0
+    for i in range(n):
+        a = new_starts[i]
+        if changed[i]:
+            ring = opened[opened_starts[k] : opened_starts[k + 1]]
+            k += 1
+            min_area_rectangle(ring, corners[i])
+            sides = rectangle_sides(corners[i : i + 1])
+            long[i], short[i] = sides[0][0], sides[1][0]
+            edge[i, 0], edge[i, 1] = sides[2][0, 0], sides[2][0, 1]
+        else:
+            ring = coords[ring_starts[i] : ring_starts[i + 1]]
+        new[a : a + ring.shape[0]] = ring
+    return filled, core, new, new_starts, area, sums, corners, long, short, edge
 
 
 # -- areas, lengths, orientations and circles as GEOS computes them ------------------------------

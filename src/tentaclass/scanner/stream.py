@@ -181,6 +181,7 @@ class LineScanner:
         self._stage_rows = max(1, self.latency // 4)
         self._hold = self.latency - self._stage_rows if self.latency else 0
         self._stage: np.ndarray | None = None
+        self._slots: list[np.ndarray] = []
         self._n_stage = 0
         self._fast_dtype: np.dtype | None = None
         self._row_shape = (self.width,)
@@ -313,7 +314,7 @@ class LineScanner:
         ):
             # one row of a type that needs no checks, to the stage (a camera's case)
             k = self._n_stage
-            self._stage[k] = rows  # type: ignore[index]  # (staged rows have a stage)
+            self._slots[k][...] = rows  # (a copy of the same dtype: no cast)
             self._n_stage = k = k + 1
             self.rows_seen += 1
             return self._drain() if k == self._stage_rows else []
@@ -364,6 +365,9 @@ class LineScanner:
                 if not binary and arr.dtype in (np.uint8, np.uint16)
                 else None
             )
+            # the stage's rows as views of that type, one per slot
+            fast = self._fast_dtype
+            self._slots = [] if fast is None else list(self._stage.view(fast))
         i = 0
         while i < arr.shape[0]:
             k = min(arr.shape[0] - i, self._stage_rows - self._n_stage)
