@@ -424,13 +424,74 @@ def rectangle_sides(corners):
 
 
 @nb.njit(**_OPTS)
-def triangle_search(normal, c, theta, ph_correct, length, starts):
+def hull_edges(coords, starts):
+    """Outward unit normals, offsets and lengths of the edges of simplified hull rings.
+
+    Ring ``i`` is ``coords[starts[i]:starts[i + 1]]`` as shapely gives a
+    polygon's (closed; fewer than 4 points: a point or a line, kept as it
+    is); a clockwise ring is taken counter-clockwise
+    (:func:`shapely.orient_polygons`). Each edge longer than 1e-9 gives its
+    normal ``(dy, -dx) / length`` (outward), its line's offset ``c =
+    normal . start`` and its length; ``edge_starts[i]`` is where ring ``i``'s
+    edges begin (numpy's arithmetic, the same bits).
+    """
+    n = starts.shape[0] - 1
+    normal = np.empty((coords.shape[0], 2))
+    c = np.empty(coords.shape[0])
+    length = np.empty(coords.shape[0])
+    edge_starts = np.zeros(n + 1, dtype=np.int64)
+    e = 0
+    for i in range(n):
+        a, b = starts[i], starts[i + 1]
+        flip = b - a >= 4 and not _is_ccw(coords[a:b])
+        for k in range(b - a - 1):
+            j0, j1 = (b - 1 - k, b - 2 - k) if flip else (a + k, a + k + 1)
+            px, py = coords[j0, 0], coords[j0, 1]
+            dx, dy = coords[j1, 0] - px, coords[j1, 1] - py
+            if np.hypot(dx, dy) > 1e-9:
+                nx, ny = dy, -dx
+                size = np.hypot(nx, ny)
+                nx /= size
+                ny /= size
+                normal[e, 0], normal[e, 1] = nx, ny
+                c[e] = nx * px + ny * py
+                length[e] = size
+                e += 1
+        edge_starts[i + 1] = e
+    return normal[:e], c[:e], length[:e], edge_starts
+
+
+@nb.njit(**_OPTS)
+def _remainder(a, b):
+    """``numpy.remainder(a, b)`` of floats (the sign of ``b``), as numpy computes it."""
+    m = np.fmod(a, b)
+    if m != 0:
+        if (b < 0) != (m < 0):
+            m += b
+    else:
+        m = 0.0 if b > 0 else -0.0
+    return m
+
+
+@nb.njit(**_OPTS)
+def _unwrap_correction(dd):
+    """What :func:`numpy.unwrap` adds after a step ``dd`` between two angles (its arithmetic)."""
+    if abs(dd) < np.pi:
+        return 0.0
+    ddmod = _remainder(dd + np.pi, 2 * np.pi) - np.pi
+    if ddmod == -np.pi and dd > 0:
+        ddmod = np.pi
+    return ddmod - dd
+
+
+@nb.njit(**_OPTS)
+def triangle_search(normal, c, theta, length, starts):
     """Smallest triangle on hull edge lines for each ragged group of edges.
 
-    ``theta`` are the edge normals' angles and ``ph_correct`` the
-    corrections :func:`numpy.unwrap` adds (cumulated here, as it does); the
-    12 longest edges of each group are searched. Returns ``found`` (False
-    where no triple qualifies) and the triangles ``(n, 3, 2)``.
+    ``theta`` are the edge normals' angles, unwrapped here within each group
+    as :func:`numpy.unwrap` does; the 12 longest edges of each group are
+    searched. Returns ``found`` (False where no triple qualifies) and the
+    triangles ``(n, 3, 2)``.
     """
     n = starts.shape[0] - 1
     found = np.zeros(n, dtype=np.bool_)
@@ -444,7 +505,7 @@ def triangle_search(normal, c, theta, ph_correct, length, starts):
         up[0] = theta[a]
         s = 0.0
         for k in range(1, m):
-            s += ph_correct[a + k - 1]
+            s += _unwrap_correction(theta[a + k] - theta[a + k - 1])
             up[k] = theta[a + k] + s
         order = np.argsort(-length[a:b], kind="mergesort")
         top = np.sort(order[: min(12, m)])

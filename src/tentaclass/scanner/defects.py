@@ -123,25 +123,9 @@ def _triangles(
     simple = shapely.simplify(polygons_from_rings(rings, ring_starts), 0.25)
     sxy, index = shapely.get_coordinates(simple, return_index=True)
     starts = np.searchsorted(index, np.arange(n + 1))
-    xy = geo.outline_measures(sxy, starts, np.diff(starts) >= 4)[2]  # counter-clockwise
-    d = np.diff(xy, axis=0)
-    keep = (index[1:] == index[:-1]) & (np.hypot(d[:, 0], d[:, 1]) > 1e-9)
-    p, d, index = xy[:-1][keep], d[keep], index[:-1][keep]
-    normal = np.stack([d[:, 1], -d[:, 0]], axis=1)  # outward for a CCW ring
-    length = np.hypot(normal[:, 0], normal[:, 1])
-    normal /= length[:, None]
-    c = np.einsum("ij,ij->i", normal, p)
+    normal, c, length, edge_starts = geo.hull_edges(sxy, starts)
     theta = np.arctan2(normal[:, 1], normal[:, 0])
-    # numpy.unwrap's corrections within each hull (cumulated by the kernel)
-    dd = np.diff(theta)
-    ph = np.mod(dd + np.pi, 2 * np.pi) - np.pi
-    np.copyto(ph, np.pi, where=(ph == -np.pi) & (dd > 0))
-    ph -= dd
-    np.copyto(ph, 0, where=abs(dd) < np.pi)
-    ph = np.append(ph, 0.0)
-    found, tris = geo.triangle_search(
-        normal, c, theta, ph, length, np.searchsorted(index, np.arange(n + 1))
-    )
+    found, tris = geo.triangle_search(normal, c, theta, length, edge_starts)
     return sxy, starts, found, tris
 
 
