@@ -46,6 +46,7 @@ from skimage.measure import regionprops
 from .._deprecation import UNSET, renamed
 from ..errors import InputError
 from ..features import fourier_features
+from ..features.fourier import MATMUL_MAX_JOINTS, _features_fft, _features_matmul
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
 from ._geometry import (
@@ -349,6 +350,21 @@ def _outlines_fourier(batch: np.ndarray, n_points: int, n_harmonics: int) -> np.
     return fourier_features(q, n_harmonics, normalize=True)
 
 
+def _turning_fourier(q: np.ndarray, n_harmonics: int) -> np.ndarray:
+    """``fourier_features(q, n_harmonics, normalize=True)`` of turning angles, unchecked.
+
+    ``q`` (n, n_points) holds angles in [-pi, pi] and ``n_harmonics`` is
+    valid (the model checks it): the same computation without the checks and
+    the dispatch, which cost more than the product on a small batch.
+    """
+    n = q.shape[1]
+    out = np.empty((q.shape[0], n_harmonics))
+    kernel = _features_matmul if n <= MATMUL_MAX_JOINTS else _features_fft
+    kernel(q, n_harmonics, False, 2 * np.pi, True, out)
+    out /= n
+    return out
+
+
 def hull_features(
     rings: np.ndarray,
     ring_starts: np.ndarray,
@@ -372,7 +388,7 @@ def hull_features(
     )
     if bad:
         raise InputError("an outline has zero perimeter or two coinciding chord ends")
-    turns = fourier_features(np.arctan2(cross, dot), n_harmonics, normalize=True)
+    turns = _turning_fourier(np.arctan2(cross, dot), n_harmonics)
     return np.concatenate([scalars, turns], axis=1)
 
 
