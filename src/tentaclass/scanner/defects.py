@@ -263,6 +263,12 @@ def defect_records(
     out: dict[int, list[Defect]] = {}
     if not ints.shape[0]:
         return out
+    # each object's holes, then missing, then extra material, each largest first
+    # (a stable sort: equal ones keep the kernel's order)
+    code = ints[:, 1]
+    group = np.where(code == geo.HOLE, 0, np.where(code == geo.BURR, 2, 1))
+    order = np.lexsort((-ints[:, 2], group, ints[:, 0]))
+    ints, floats = ints[order], floats[order]
     shift = np.zeros((ints.shape[0], 2), dtype=np.int64)
     if tops is not None and lefts is not None:
         shift[:, 0] = np.asarray(tops, dtype=np.int64)[ints[:, 0]]
@@ -277,10 +283,6 @@ def defect_records(
         name, note = _KINDS[code]
         d = new_defect(name, size, tuple(box), tuple(centre), depth, note.format(size))
         out.setdefault(i, []).append(d)
-    group = {geo.HOLE: 0, geo.BURR: 2}
-    for found in out.values():
-        if len(found) > 1:  # holes, then missing, then extra material, each largest first
-            found.sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
     return out
 
 
@@ -323,9 +325,6 @@ def find_defects_many(
     else:
         found = defect_records(ints, floats, [o[0] for o in offsets], [o[1] for o in offsets])
     return [found.get(i, []) for i in range(n)]
-
-
-_CODES = {name: code for code, (name, _) in _KINDS.items()}
 
 
 def find_defects(

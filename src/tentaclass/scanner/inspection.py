@@ -164,13 +164,8 @@ def _defect_fields(
     defects: list[Defect],
 ) -> tuple[int, int, tuple[Defect, ...], tuple[str, ...]]:
     """Holes, their area, the defects and the reasons of a record."""
-    holes = [d for d in defects if d.kind == "hole"]
-    return (
-        len(holes),
-        int(sum(d.area for d in holes)),
-        tuple(defects),
-        tuple(_reason(d) for d in defects),
-    )
+    holes = [d.area for d in defects if d.kind == "hole"]
+    return len(holes), int(sum(holes)), tuple(defects), tuple(map(_reason, defects))
 
 
 def _check_options(
