@@ -1629,6 +1629,89 @@ def _centroid(ring):
 
 
 @nb.njit(**_OPTS)
+def outline_shapes(ring_starts, code):
+    """The outline each hull gets, and the hulls that get a triangle, gathered.
+
+    ``code`` is the shape each object's class asks for; a hull of fewer than
+    4 points (a point or a line) gets itself (``HULL``). Returns the shapes
+    and the indices of the triangles' hulls.
+    """
+    n = code.shape[0]
+    shape = np.empty(n, dtype=np.int64)
+    picked = np.empty(n, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        shape[i] = code[i] if ring_starts[i + 1] - ring_starts[i] >= 4 else HULL
+        if shape[i] == TRIANGLE:
+            picked[k] = i
+            k += 1
+    return shape, picked[:k]
+
+
+@nb.njit(**_OPTS)
+def gather_rings(coords, starts, picked):
+    """The rings ``picked`` (indices) of rings stored one after the other: ``(coords, starts)``."""
+    out_starts = np.zeros(picked.shape[0] + 1, dtype=np.int64)
+    for k in range(picked.shape[0]):
+        i = picked[k]
+        out_starts[k + 1] = out_starts[k] + starts[i + 1] - starts[i]
+    out = np.empty((out_starts[-1], 2))
+    for k in range(picked.shape[0]):
+        i = picked[k]
+        out[out_starts[k] : out_starts[k + 1]] = coords[starts[i] : starts[i + 1]]
+    return out, out_starts
+
+
+@nb.njit(**_OPTS)
+def ordered_defects(ints, floats, tops, lefts):
+    """The rows of :func:`defect_groups` in record order, moved by each object's offset.
+
+    Each object's holes first, then its missing, then its extra material,
+    each largest first (a stable order: equal ones as the kernel gave them);
+    boxes and centroids moved by ``(tops[i], lefts[i])`` of their object
+    ``i``, and the holes' depths set to 0. Returns new arrays.
+    """
+    n = ints.shape[0]
+    order = np.arange(n)
+    key = np.empty((n, 2), dtype=np.int64)  # (group, -area)
+    for g in range(n):
+        code = ints[g, 1]
+        key[g, 0] = 0 if code == HOLE else 2 if code == BURR else 1
+        key[g, 1] = -ints[g, 2]
+    a = 0
+    while a < n:  # each object's rows, in place by insertion (stable)
+        b = a
+        while b < n and ints[b, 0] == ints[a, 0]:
+            b += 1
+        for x in range(a + 1, b):
+            v = order[x]
+            y = x
+            while y > a and (
+                key[order[y - 1], 0] > key[v, 0]
+                or (key[order[y - 1], 0] == key[v, 0] and key[order[y - 1], 1] > key[v, 1])
+            ):
+                order[y] = order[y - 1]
+                y -= 1
+            order[y] = v
+        a = b
+    out_ints = np.empty_like(ints)
+    out_floats = np.empty_like(floats)
+    for g in range(n):
+        src = order[g]
+        i = ints[src, 0]
+        out_ints[g] = ints[src]
+        out_floats[g] = floats[src]
+        for c in (3, 5):
+            out_ints[g, c] += tops[i]
+            out_ints[g, c + 1] += lefts[i]
+        out_floats[g, 0] += float(tops[i])
+        out_floats[g, 1] += float(lefts[i])
+        if ints[src, 1] == HOLE:
+            out_floats[g, 2] = 0.0
+    return out_ints, out_floats
+
+
+@nb.njit(**_OPTS)
 def defect_setup(
     xy, starts, polygon, circle, cornered, heights, widths, obj_area, width, length, min_area,
     min_area_fraction, min_depth,

@@ -34,7 +34,6 @@ from .descriptors import (
     MaskBatch,
     flatten_masks,
     polygons_from_rings,
-    take_rings,
 )
 from .records import Defect, new_defect
 
@@ -148,10 +147,9 @@ def _expected_rings(
     the other outlines) and the shape each label asks for.
     """
     code = np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
-    shape = np.where(np.diff(ring_starts) >= 4, code, geo.HULL)
-    triangle = shape == geo.TRIANGLE
-    if triangle.any():
-        tri = _triangles(*take_rings(rings, ring_starts, triangle))
+    shape, triangles = geo.outline_shapes(ring_starts, code)
+    if triangles.size:
+        tri = _triangles(*geo.gather_rings(rings, ring_starts, triangles))
     else:
         tri = (
             np.zeros((0, 2)),
@@ -263,19 +261,14 @@ def defect_records(
     out: dict[int, list[Defect]] = {}
     if not ints.shape[0]:
         return out
-    # each object's holes, then missing, then extra material, each largest first
-    # (a stable sort: equal ones keep the kernel's order)
-    code = ints[:, 1]
-    group = np.where(code == geo.HOLE, 0, np.where(code == geo.BURR, 2, 1))
-    order = np.lexsort((-ints[:, 2], group, ints[:, 0]))
-    ints, floats = ints[order], floats[order]
-    shift = np.zeros((ints.shape[0], 2), dtype=np.int64)
-    if tops is not None and lefts is not None:
-        shift[:, 0] = np.asarray(tops, dtype=np.int64)[ints[:, 0]]
-        shift[:, 1] = np.asarray(lefts, dtype=np.int64)[ints[:, 0]]
-    boxes = (ints[:, 3:7] + np.tile(shift, 2)).tolist()
-    centres = (floats[:, :2] + shift).tolist()
-    depths = np.where(ints[:, 1] == geo.HOLE, 0.0, rounded(floats[:, 2], 3)).tolist()
+    if tops is None or lefts is None:
+        rows = cols = np.zeros(int(ints[:, 0].max()) + 1, dtype=np.int64)
+    else:
+        rows, cols = np.asarray(tops, dtype=np.int64), np.asarray(lefts, dtype=np.int64)
+    ints, floats = geo.ordered_defects(ints, floats, rows, cols)
+    boxes = ints[:, 3:7].tolist()
+    centres = floats[:, :2].tolist()
+    depths = rounded(floats[:, 2], 3).tolist()
     for i, code, size, box, centre, depth in zip(
         ints[:, 0].tolist(), ints[:, 1].tolist(), ints[:, 2].tolist(), boxes, centres, depths,
         strict=True,

@@ -203,16 +203,6 @@ def rectangles_of_rings(
     return corners, polygons_from_rings(corners.reshape(5 * n, 2), np.arange(0, 5 * n + 1, 5))
 
 
-def take_rings(
-    coords: np.ndarray, starts: np.ndarray, select: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """The rings ``select`` (bool, one per ring) of rings stored one after the other."""
-    counts = np.diff(starts)
-    sub = np.zeros(int(select.sum()) + 1, dtype=np.int64)
-    np.cumsum(counts[select], out=sub[1:])
-    return coords[np.repeat(select, counts)], sub
-
-
 class Measures(NamedTuple):
     """What :func:`measure` finds, for a batch of objects in arrays.
 
