@@ -195,6 +195,7 @@ class LineScanner:
         # row, last row, first column, area, runs start, runs stop) and their runs
         self._pend = np.zeros((0, seg.N_OUT_FIELDS), dtype=np.int64)
         self._pend_runs = np.zeros((0, 3), dtype=np.int64)
+        self._pend_oldest = np.iinfo(np.int64).max  # the smallest last row pending
         self._pools = seg.new_pools(self.width, 256, 4096)
         self._bg = np.zeros(self.width, dtype=np.float64)
         self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
@@ -531,6 +532,7 @@ class LineScanner:
         p = self._pools
         new = p["out"][:n_out].copy()
         new[:, 5:7] += self._pend_runs.shape[0]
+        self._pend_oldest = min(self._pend_oldest, int(new[:, 2].min()))
         if self._pend.shape[0]:
             self._pend = np.concatenate([self._pend, new])
             self._pend_runs = np.concatenate([self._pend_runs, p["out_runs"][:n_runs]])
@@ -548,6 +550,8 @@ class LineScanner:
         go = np.ones(pend.shape[0], dtype=bool)
         if not final:
             newest = self._done_rows - 1
+            if newest - self._pend_oldest < hold:  # none has waited long enough
+                return []
             go = pend[:, 2] < newest
             if not go.any() or newest - int(pend[go, 2].min()) < hold:
                 return []
@@ -557,8 +561,10 @@ class LineScanner:
         if go.all():
             self._pend = pend[:0]
             self._pend_runs = runs[:0]
+            self._pend_oldest = np.iinfo(np.int64).max
         else:
             self._pend, self._pend_runs = seg.compact_output(pend[~go], runs)
+            self._pend_oldest = int(self._pend[:, 2].min())
         whole = out[:, 0] == 0
         inspections: list[Inspection] = []
         if whole.any():
