@@ -141,15 +141,40 @@ def test_line_intersection_is_exact_and_none_for_parallel_lines():
 
 def test_chord_walk_angles_are_the_numpy_pipelines_to_the_last_bit():
     from tentaclass.geometry import points_to_angles, resample_closed
-    from tentaclass.scanner._geometry import chord_turns
+    from tentaclass.scanner._geometry import hull_descriptors
 
-    rings = [r[:-1] for r in _hull_rings(True, seed=3)]
+    rings = _hull_rings(True, seed=3)
     starts = np.r_[0, np.cumsum([len(r) for r in rings])]
-    cross, dot, bad = chord_turns(np.concatenate(rings), starts, 64)
+    ones = np.ones(len(rings))
+    _, cross, dot, bad = hull_descriptors(np.concatenate(rings), starts, ones, ones, ones, 64)
     assert not bad
     ours = np.arctan2(cross, dot)
     for r, q in zip(rings, ours, strict=True):
-        assert np.array_equal(q, points_to_angles(resample_closed(r[None], 64), closed=True)[0])
+        walk = resample_closed(r[:-1][None], 64)
+        assert np.array_equal(q, points_to_angles(walk, closed=True)[0])
+
+
+def test_hull_scalars_are_numpys_of_shapelys_measures():
+    from tentaclass.scanner._geometry import hull_descriptors
+
+    xy, starts, polys = _ragged(_hull_rings(True, seed=4), shift_seed=3)
+    rng = np.random.default_rng(0)
+    long, short = rng.uniform(5, 9, len(polys)), rng.uniform(1, 5, len(polys))
+    pixels = rng.integers(1, 200, len(polys)).astype(float)
+    scalars = hull_descriptors(xy, starts, long, short, pixels, 16)[0]
+    area, perimeter = shapely.area(polys), shapely.length(polys)
+    radius = shapely.minimum_bounding_radius(polys)
+    expected = np.stack(
+        [
+            area / (long * short),
+            short / long,
+            4 * np.pi * area / perimeter**2,
+            area / (np.pi * radius**2),
+            1.0 / np.sqrt(pixels),
+        ],
+        axis=1,
+    )
+    assert np.array_equal(scalars, expected)
 
 
 def _ragged(rings, shift_seed=None):

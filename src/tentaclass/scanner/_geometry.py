@@ -424,13 +424,74 @@ def rectangle_sides(corners):
 
 
 @nb.njit(**_OPTS)
-def triangle_search(normal, c, theta, ph_correct, length, starts):
+def hull_edges(coords, starts):
+    """Outward unit normals, offsets and lengths of the edges of simplified hull rings.
+
+    Ring ``i`` is ``coords[starts[i]:starts[i + 1]]`` as shapely gives a
+    polygon's (closed; fewer than 4 points: a point or a line, kept as it
+    is); a clockwise ring is taken counter-clockwise
+    (:func:`shapely.orient_polygons`). Each edge longer than 1e-9 gives its
+    normal ``(dy, -dx) / length`` (outward), its line's offset ``c =
+    normal . start`` and its length; ``edge_starts[i]`` is where ring ``i``'s
+    edges begin (numpy's arithmetic, the same bits).
+    """
+    n = starts.shape[0] - 1
+    normal = np.empty((coords.shape[0], 2))
+    c = np.empty(coords.shape[0])
+    length = np.empty(coords.shape[0])
+    edge_starts = np.zeros(n + 1, dtype=np.int64)
+    e = 0
+    for i in range(n):
+        a, b = starts[i], starts[i + 1]
+        flip = b - a >= 4 and not _is_ccw(coords[a:b])
+        for k in range(b - a - 1):
+            j0, j1 = (b - 1 - k, b - 2 - k) if flip else (a + k, a + k + 1)
+            px, py = coords[j0, 0], coords[j0, 1]
+            dx, dy = coords[j1, 0] - px, coords[j1, 1] - py
+            if np.hypot(dx, dy) > 1e-9:
+                nx, ny = dy, -dx
+                size = np.hypot(nx, ny)
+                nx /= size
+                ny /= size
+                normal[e, 0], normal[e, 1] = nx, ny
+                c[e] = nx * px + ny * py
+                length[e] = size
+                e += 1
+        edge_starts[i + 1] = e
+    return normal[:e], c[:e], length[:e], edge_starts
+
+
+@nb.njit(**_OPTS)
+def _remainder(a, b):
+    """``numpy.remainder(a, b)`` of floats (the sign of ``b``), as numpy computes it."""
+    m = np.fmod(a, b)
+    if m != 0:
+        if (b < 0) != (m < 0):
+            m += b
+    else:
+        m = 0.0 if b > 0 else -0.0
+    return m
+
+
+@nb.njit(**_OPTS)
+def _unwrap_correction(dd):
+    """What :func:`numpy.unwrap` adds after a step ``dd`` between two angles (its arithmetic)."""
+    if abs(dd) < np.pi:
+        return 0.0
+    ddmod = _remainder(dd + np.pi, 2 * np.pi) - np.pi
+    if ddmod == -np.pi and dd > 0:
+        ddmod = np.pi
+    return ddmod - dd
+
+
+@nb.njit(**_OPTS)
+def triangle_search(normal, c, theta, length, starts):
     """Smallest triangle on hull edge lines for each ragged group of edges.
 
-    ``theta`` are the edge normals' angles and ``ph_correct`` the
-    corrections :func:`numpy.unwrap` adds (cumulated here, as it does); the
-    12 longest edges of each group are searched. Returns ``found`` (False
-    where no triple qualifies) and the triangles ``(n, 3, 2)``.
+    ``theta`` are the edge normals' angles, unwrapped here within each group
+    as :func:`numpy.unwrap` does; the 12 longest edges of each group are
+    searched. Returns ``found`` (False where no triple qualifies) and the
+    triangles ``(n, 3, 2)``.
     """
     n = starts.shape[0] - 1
     found = np.zeros(n, dtype=np.bool_)
@@ -444,7 +505,7 @@ def triangle_search(normal, c, theta, ph_correct, length, starts):
         up[0] = theta[a]
         s = 0.0
         for k in range(1, m):
-            s += ph_correct[a + k - 1]
+            s += _unwrap_correction(theta[a + k] - theta[a + k - 1])
             up[k] = theta[a + k] + s
         order = np.argsort(-length[a:b], kind="mergesort")
         top = np.sort(order[: min(12, m)])
@@ -911,70 +972,95 @@ def _power_of_two(peak):
 
 
 @nb.njit(**_OPTS)
-def chord_turns(coords, ring_starts, n_points):
-    """Operands of the turning angles of a walk of ``n_points`` equal chords around each ring.
+def _ring_chord_turns(ring, n_points, walk, cross, dot):
+    """Operands of the turning angles of a walk of ``n_points`` equal chords around a ring.
 
-    Ring ``i`` is ``coords[ring_starts[i]:ring_starts[i + 1]]`` (closed
-    implicitly: no repeated first vertex). The walk is
-    :func:`tentaclass.geometry.resample_closed` of the ring and the angles
+    The ring has no repeated first vertex (it is closed implicitly). The walk
+    is :func:`tentaclass.geometry.resample_closed` of the ring and the angles
     :func:`tentaclass.geometry.points_to_angles` of the walk, ``arctan2(cross,
-    dot)``; this returns ``cross`` and ``dot`` of shape ``(n_rings,
-    n_points)``, with the same arithmetic, and whether two consecutive points
-    of some walk coincide (or a ring has no perimeter), where those functions
-    raise.
+    dot)``; this writes ``cross`` and ``dot`` (``n_points`` each) with the
+    same arithmetic, and returns False where two consecutive points of the
+    walk coincide (or the ring has no perimeter), where those functions raise.
+    ``walk`` is scratch of shape ``(n_points, 2)``.
+    """
+    m = ring.shape[0]
+    peak = 0.0
+    for j in range(m):
+        peak = max(peak, abs(ring[j, 0]), abs(ring[j, 1]))
+    scale = _power_of_two(peak)
+    p = np.empty((m + 1, 2))
+    for j in range(m):
+        p[j, 0] = ring[j, 0] / scale
+        p[j, 1] = ring[j, 1] / scale
+    p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
+    s = np.empty(m + 1)
+    s[0] = 0.0
+    for j in range(m):
+        s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
+    total = s[m]
+    if not total > 0:
+        return False
+    u = s / total
+    j = 0
+    peak = 0.0
+    for k in range(n_points):
+        t = k / n_points
+        while j < m and u[j + 1] <= t:  # searchsorted(u, t, "right") - 1, clipped
+            j += 1
+        j = min(j, m - 1)
+        u0, u1 = u[j], u[j + 1]
+        w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
+        for d in range(2):
+            walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
+            peak = max(peak, abs(walk[k, d]))
+    scale = _power_of_two(peak)
+    for k in range(n_points):
+        walk[k, 0] /= scale
+        walk[k, 1] /= scale
+    ok = True
+    for k in range(n_points):
+        k0 = k - 1 if k > 0 else n_points - 1
+        k2 = k + 1 if k < n_points - 1 else 0
+        px, py = walk[k, 0] - walk[k0, 0], walk[k, 1] - walk[k0, 1]
+        ex, ey = walk[k2, 0] - walk[k, 0], walk[k2, 1] - walk[k, 1]
+        if ex == 0 and ey == 0:
+            ok = False
+        cross[k] = px * ey - py * ex
+        dot[k] = px * ex + py * ey
+    return ok
+
+
+@nb.njit(error_model="numpy", **_OPTS)  # x / 0 is inf or NaN, as numpy gives it
+def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
+    """The hull group's scalars and chord-walk operands of closed hull rings, in one pass.
+
+    ``scalars`` ``(n, 5)``: rectangularity ``area / (long * short)``, aspect
+    ``short / long``, circularity ``4 pi area / perimeter**2``, circle fill
+    ``area / (pi radius**2)`` (area, perimeter and bounding radius as
+    :func:`hull_measures`) and pixel scale ``1 / sqrt(pixels)``, with numpy's
+    arithmetic; then ``cross`` and ``dot`` ``(n, n_points)``: the operands of the
+    turning angles of each ring's chord walk (:func:`_ring_chord_turns`), and
+    whether some walk is degenerate.
     """
     n = ring_starts.shape[0] - 1
+    scalars = np.empty((n, 5))
     cross = np.empty((n, n_points))
     dot = np.empty((n, n_points))
     walk = np.empty((n_points, 2))
     bad = False
     for i in range(n):
-        a, b = ring_starts[i], ring_starts[i + 1]
-        m = b - a
-        peak = 0.0
-        for j in range(a, b):
-            peak = max(peak, abs(coords[j, 0]), abs(coords[j, 1]))
-        scale = _power_of_two(peak)
-        p = np.empty((m + 1, 2))
-        for j in range(m):
-            p[j, 0] = coords[a + j, 0] / scale
-            p[j, 1] = coords[a + j, 1] / scale
-        p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
-        s = np.empty(m + 1)
-        s[0] = 0.0
-        for j in range(m):
-            s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
-        total = s[m]
-        if not total > 0:
+        ring = rings[ring_starts[i] : ring_starts[i + 1]]
+        area = abs(_ring_area_signed(ring))
+        perimeter = _ring_length(ring)
+        radius = bounding_radius(ring[:-1, 0], ring[:-1, 1])
+        scalars[i, 0] = area / (long[i] * short[i])
+        scalars[i, 1] = short[i] / long[i]
+        scalars[i, 2] = 4 * np.pi * area / (perimeter * perimeter)
+        scalars[i, 3] = area / (np.pi * (radius * radius))
+        scalars[i, 4] = 1.0 / np.sqrt(float(pixels[i]))
+        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i]):
             bad = True
-            continue
-        u = s / total
-        j = 0
-        peak = 0.0
-        for k in range(n_points):
-            t = k / n_points
-            while j < m and u[j + 1] <= t:  # searchsorted(u, t, "right") - 1, clipped
-                j += 1
-            j = min(j, m - 1)
-            u0, u1 = u[j], u[j + 1]
-            w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
-            for d in range(2):
-                walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
-                peak = max(peak, abs(walk[k, d]))
-        scale = _power_of_two(peak)
-        for k in range(n_points):
-            walk[k, 0] /= scale
-            walk[k, 1] /= scale
-        for k in range(n_points):
-            k0 = k - 1 if k > 0 else n_points - 1
-            k2 = k + 1 if k < n_points - 1 else 0
-            px, py = walk[k, 0] - walk[k0, 0], walk[k, 1] - walk[k0, 1]
-            ex, ey = walk[k2, 0] - walk[k, 0], walk[k2, 1] - walk[k, 1]
-            if ex == 0 and ey == 0:
-                bad = True
-            cross[i, k] = px * ey - py * ex
-            dot[i, k] = px * ex + py * ey
-    return cross, dot, bad
+    return scalars, cross, dot, bad
 
 
 # -- the minimum-area rectangle of GEOS (shapely.oriented_envelope), same arithmetic -------------
@@ -1220,6 +1306,54 @@ def min_area_rectangles(coords, ring_starts):
     for i in range(n):
         min_area_rectangle(coords[ring_starts[i] : ring_starts[i + 1]], out[i])
     return out
+
+
+@nb.njit(**_OPTS)
+def measure_cores(flat, starts, heights, widths, open_width):
+    """:func:`measure_batch`, then each object's core, hull and minimum rotated rectangle.
+
+    Objects whose rectangle's short side is at least ``open_width`` are
+    opened where that removes burrs (:func:`open_burrs`); their hulls and
+    rectangles are then those of the opened masks. Returns the filled masks
+    and the cores (flat, as ``flat``; the cores are ``filled`` itself when no
+    object changed), the hull rings of the cores' pixel squares (closed, one
+    after the other) and their starts, areas, row/column sums, rectangles
+    ``(n, 5, 2)`` and :func:`rectangle_sides` of them.
+    """
+    filled, coords, ring_starts, area, sums = measure_batch(flat, starts, heights, widths)
+    corners = min_area_rectangles(coords, ring_starts)
+    long, short, edge = rectangle_sides(corners)
+    candidates = np.flatnonzero(short >= open_width)
+    core, changed, opened, opened_starts = open_burrs(
+        filled, starts, heights, widths, candidates, coords, ring_starts
+    )
+    if opened_starts.shape[0] == 1:  # no core changed
+        return filled, core, coords, ring_starts, area, sums, corners, long, short, edge
+    n = heights.shape[0]
+    new_starts = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):  # the ring lengths, the opened ones where changed
+        new_starts[i + 1] = ring_starts[i + 1] - ring_starts[i]
+    k = 0
+    for i in range(n):
+        if changed[i]:
+            new_starts[i + 1] = opened_starts[k + 1] - opened_starts[k]
+            k += 1
+        new_starts[i + 1] += new_starts[i]
+    new = np.empty((new_starts[n], 2))
+    k = 0
+    for i in range(n):
+        a = new_starts[i]
+        if changed[i]:
+            ring = opened[opened_starts[k] : opened_starts[k + 1]]
+            k += 1
+            min_area_rectangle(ring, corners[i])
+            sides = rectangle_sides(corners[i : i + 1])
+            long[i], short[i] = sides[0][0], sides[1][0]
+            edge[i, 0], edge[i, 1] = sides[2][0, 0], sides[2][0, 1]
+        else:
+            ring = coords[ring_starts[i] : ring_starts[i + 1]]
+        new[a : a + ring.shape[0]] = ring
+    return filled, core, new, new_starts, area, sums, corners, long, short, edge
 
 
 # -- areas, lengths, orientations and circles as GEOS computes them ------------------------------
@@ -1492,6 +1626,89 @@ def _centroid(ring):
         gy += sign * a2 * ty
         total += sign * a2
     return np.array([gx / 3 / total, gy / 3 / total])
+
+
+@nb.njit(**_OPTS)
+def outline_shapes(ring_starts, code):
+    """The outline each hull gets, and the hulls that get a triangle, gathered.
+
+    ``code`` is the shape each object's class asks for; a hull of fewer than
+    4 points (a point or a line) gets itself (``HULL``). Returns the shapes
+    and the indices of the triangles' hulls.
+    """
+    n = code.shape[0]
+    shape = np.empty(n, dtype=np.int64)
+    picked = np.empty(n, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        shape[i] = code[i] if ring_starts[i + 1] - ring_starts[i] >= 4 else HULL
+        if shape[i] == TRIANGLE:
+            picked[k] = i
+            k += 1
+    return shape, picked[:k]
+
+
+@nb.njit(**_OPTS)
+def gather_rings(coords, starts, picked):
+    """The rings ``picked`` (indices) of rings stored one after the other: ``(coords, starts)``."""
+    out_starts = np.zeros(picked.shape[0] + 1, dtype=np.int64)
+    for k in range(picked.shape[0]):
+        i = picked[k]
+        out_starts[k + 1] = out_starts[k] + starts[i + 1] - starts[i]
+    out = np.empty((out_starts[-1], 2))
+    for k in range(picked.shape[0]):
+        i = picked[k]
+        out[out_starts[k] : out_starts[k + 1]] = coords[starts[i] : starts[i + 1]]
+    return out, out_starts
+
+
+@nb.njit(**_OPTS)
+def ordered_defects(ints, floats, tops, lefts):
+    """The rows of :func:`defect_groups` in record order, moved by each object's offset.
+
+    Each object's holes first, then its missing, then its extra material,
+    each largest first (a stable order: equal ones as the kernel gave them);
+    boxes and centroids moved by ``(tops[i], lefts[i])`` of their object
+    ``i``, and the holes' depths set to 0. Returns new arrays.
+    """
+    n = ints.shape[0]
+    order = np.arange(n)
+    key = np.empty((n, 2), dtype=np.int64)  # (group, -area)
+    for g in range(n):
+        code = ints[g, 1]
+        key[g, 0] = 0 if code == HOLE else 2 if code == BURR else 1
+        key[g, 1] = -ints[g, 2]
+    a = 0
+    while a < n:  # each object's rows, in place by insertion (stable)
+        b = a
+        while b < n and ints[b, 0] == ints[a, 0]:
+            b += 1
+        for x in range(a + 1, b):
+            v = order[x]
+            y = x
+            while y > a and (
+                key[order[y - 1], 0] > key[v, 0]
+                or (key[order[y - 1], 0] == key[v, 0] and key[order[y - 1], 1] > key[v, 1])
+            ):
+                order[y] = order[y - 1]
+                y -= 1
+            order[y] = v
+        a = b
+    out_ints = np.empty_like(ints)
+    out_floats = np.empty_like(floats)
+    for g in range(n):
+        src = order[g]
+        i = ints[src, 0]
+        out_ints[g] = ints[src]
+        out_floats[g] = floats[src]
+        for c in (3, 5):
+            out_ints[g, c] += tops[i]
+            out_ints[g, c + 1] += lefts[i]
+        out_floats[g, 0] += float(tops[i])
+        out_floats[g, 1] += float(lefts[i])
+        if ints[src, 1] == HOLE:
+            out_floats[g, 2] = 0.0
+    return out_ints, out_floats
 
 
 @nb.njit(**_OPTS)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numba as nb
 import numpy as np
 
 __all__ = ["rounded"]
@@ -26,17 +27,29 @@ def rounded(values: np.ndarray, digits: int) -> np.ndarray:
     True
     """
     x = np.asarray(values, dtype=np.float64)
-    if x.size <= 16:  # fewer calls than the array operations below
-        return np.array([round(v, digits) for v in x.ravel().tolist()]).reshape(x.shape)
-    scale = 10.0**digits
-    with np.errstate(over="ignore", invalid="ignore"):
-        y = x * scale
-        m = np.rint(y)
-        out = m / scale
-        near = np.abs(np.abs(y - m) - 0.5) <= 2.0 * np.spacing(np.abs(y))
-        near |= np.abs(y) >= 2.0**52
-    near &= np.isfinite(x)
+    out, near = _round_scaled(np.ascontiguousarray(x).ravel(), 10.0**digits)
     if near.any():
         idx = np.flatnonzero(near)
-        out[idx] = [round(v, digits) for v in x[idx].tolist()]
-    return out
+        out[idx] = [round(v, digits) for v in x.ravel()[idx].tolist()]
+    return out.reshape(x.shape)
+
+
+@nb.njit(cache=True, nogil=True)
+def _round_scaled(x, scale):
+    """``rint(x * scale) / scale`` of each value, and where Python's ``round`` may differ.
+
+    Those are the finite values whose scaled product lies within two ulps of a
+    half-integer, or is at least ``2**52`` (numpy's arithmetic, the same bits).
+    """
+    out = np.empty(x.shape[0])
+    near = np.zeros(x.shape[0], dtype=np.bool_)
+    for i in range(x.shape[0]):
+        y = x[i] * scale
+        m = np.rint(y)
+        out[i] = m / scale
+        ay = abs(y)
+        if np.isfinite(x[i]) and (
+            abs(abs(y - m) - 0.5) <= 2.0 * (np.nextafter(ay, np.inf) - ay) or ay >= 2.0**52
+        ):
+            near[i] = True
+    return out, near

@@ -160,7 +160,8 @@ def scan_rows(
     ignored).
     """
     width = bg.shape[0]
-    per_word = width // words.shape[1] if words.shape[0] else 0
+    n_words = words.shape[1]
+    per_word = width // n_words if words.shape[0] else 0
     per_row = width // 2 + 1
     if final:
         _finish(labs, runs, st, prev, r0, min_area, out, out_runs, done)
@@ -186,8 +187,11 @@ def scan_rows(
                 if per_word:
                     while c < width and c % per_word and img[i, c] == 0:
                         c += 1
-                    while c + per_word <= width and words[i, c // per_word] == 0:
-                        c += per_word
+                    if c % per_word == 0:  # at a word: skip the all-zero ones
+                        w = c // per_word
+                        while w < n_words and words[i, w] == 0:
+                            w += 1
+                        c = w * per_word
                 while c < width and img[i, c] == 0:
                     c += 1
                 if c == width:

@@ -34,7 +34,6 @@ from .descriptors import (
     MaskBatch,
     flatten_masks,
     polygons_from_rings,
-    take_rings,
 )
 from .records import Defect, new_defect
 
@@ -123,25 +122,9 @@ def _triangles(
     simple = shapely.simplify(polygons_from_rings(rings, ring_starts), 0.25)
     sxy, index = shapely.get_coordinates(simple, return_index=True)
     starts = np.searchsorted(index, np.arange(n + 1))
-    xy = geo.outline_measures(sxy, starts, np.diff(starts) >= 4)[2]  # counter-clockwise
-    d = np.diff(xy, axis=0)
-    keep = (index[1:] == index[:-1]) & (np.hypot(d[:, 0], d[:, 1]) > 1e-9)
-    p, d, index = xy[:-1][keep], d[keep], index[:-1][keep]
-    normal = np.stack([d[:, 1], -d[:, 0]], axis=1)  # outward for a CCW ring
-    length = np.hypot(normal[:, 0], normal[:, 1])
-    normal /= length[:, None]
-    c = np.einsum("ij,ij->i", normal, p)
+    normal, c, length, edge_starts = geo.hull_edges(sxy, starts)
     theta = np.arctan2(normal[:, 1], normal[:, 0])
-    # numpy.unwrap's corrections within each hull (cumulated by the kernel)
-    dd = np.diff(theta)
-    ph = np.mod(dd + np.pi, 2 * np.pi) - np.pi
-    np.copyto(ph, np.pi, where=(ph == -np.pi) & (dd > 0))
-    ph -= dd
-    np.copyto(ph, 0, where=abs(dd) < np.pi)
-    ph = np.append(ph, 0.0)
-    found, tris = geo.triangle_search(
-        normal, c, theta, ph, length, np.searchsorted(index, np.arange(n + 1))
-    )
+    found, tris = geo.triangle_search(normal, c, theta, length, edge_starts)
     return sxy, starts, found, tris
 
 
@@ -164,10 +147,9 @@ def _expected_rings(
     the other outlines) and the shape each label asks for.
     """
     code = np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
-    shape = np.where(np.diff(ring_starts) >= 4, code, geo.HULL)
-    triangle = shape == geo.TRIANGLE
-    if triangle.any():
-        tri = _triangles(*take_rings(rings, ring_starts, triangle))
+    shape, triangles = geo.outline_shapes(ring_starts, code)
+    if triangles.size:
+        tri = _triangles(*geo.gather_rings(rings, ring_starts, triangles))
     else:
         tri = (
             np.zeros((0, 2)),
@@ -279,13 +261,14 @@ def defect_records(
     out: dict[int, list[Defect]] = {}
     if not ints.shape[0]:
         return out
-    shift = np.zeros((ints.shape[0], 2), dtype=np.int64)
-    if tops is not None and lefts is not None:
-        shift[:, 0] = np.asarray(tops, dtype=np.int64)[ints[:, 0]]
-        shift[:, 1] = np.asarray(lefts, dtype=np.int64)[ints[:, 0]]
-    boxes = (ints[:, 3:7] + np.tile(shift, 2)).tolist()
-    centres = (floats[:, :2] + shift).tolist()
-    depths = np.where(ints[:, 1] == geo.HOLE, 0.0, rounded(floats[:, 2], 3)).tolist()
+    if tops is None or lefts is None:
+        rows = cols = np.zeros(int(ints[:, 0].max()) + 1, dtype=np.int64)
+    else:
+        rows, cols = np.asarray(tops, dtype=np.int64), np.asarray(lefts, dtype=np.int64)
+    ints, floats = geo.ordered_defects(ints, floats, rows, cols)
+    boxes = ints[:, 3:7].tolist()
+    centres = floats[:, :2].tolist()
+    depths = rounded(floats[:, 2], 3).tolist()
     for i, code, size, box, centre, depth in zip(
         ints[:, 0].tolist(), ints[:, 1].tolist(), ints[:, 2].tolist(), boxes, centres, depths,
         strict=True,
@@ -293,10 +276,6 @@ def defect_records(
         name, note = _KINDS[code]
         d = new_defect(name, size, tuple(box), tuple(centre), depth, note.format(size))
         out.setdefault(i, []).append(d)
-    group = {geo.HOLE: 0, geo.BURR: 2}
-    for found in out.values():
-        if len(found) > 1:  # holes, then missing, then extra material, each largest first
-            found.sort(key=lambda d: (group.get(_CODES[d.kind], 1), -d.area))
     return out
 
 
@@ -339,9 +318,6 @@ def find_defects_many(
     else:
         found = defect_records(ints, floats, [o[0] for o in offsets], [o[1] for o in offsets])
     return [found.get(i, []) for i in range(n)]
-
-
-_CODES = {name: code for code, (name, _) in _KINDS.items()}
 
 
 def find_defects(

@@ -46,16 +46,14 @@ from skimage.measure import regionprops
 from .._deprecation import UNSET, renamed
 from ..errors import InputError
 from ..features import fourier_features
+from ..features.fourier import MATMUL_MAX_JOINTS, _features_fft, _features_matmul
 from ..geometry import points_to_angles, resample_closed
 from ..shapes import from_mask
 from ._geometry import (
-    chord_turns,
-    hull_measures,
+    hull_descriptors,
     mask_hull,
-    measure_batch,
+    measure_cores,
     min_area_rectangles,
-    open_burrs,
-    rectangle_sides,
 )
 from ._rounding import rounded
 
@@ -124,6 +122,10 @@ def pixel_hull(mask: np.ndarray, *, corners: bool = True) -> shapely.Geometry:
     return _as_geometry(_hull_coords(mask, corners))
 
 
+#: The narrowest object (short side of its rectangle) that is opened to remove burrs.
+_OPEN_WIDTH = 12
+
+
 def opening_radius(width: float) -> int:
     """Radius of the opening that removes burrs from an object ``width`` pixels wide.
 
@@ -135,7 +137,7 @@ def opening_radius(width: float) -> int:
     >>> opening_radius(5.0), opening_radius(40.0)
     (0, 1)
     """
-    return 0 if width < 12 else 1
+    return 0 if width < _OPEN_WIDTH else 1
 
 
 class MaskBatch(NamedTuple):
@@ -201,25 +203,6 @@ def rectangles_of_rings(
     return corners, polygons_from_rings(corners.reshape(5 * n, 2), np.arange(0, 5 * n + 1, 5))
 
 
-def take_rings(
-    coords: np.ndarray, starts: np.ndarray, select: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """The rings ``select`` (bool, one per ring) of rings stored one after the other."""
-    counts = np.diff(starts)
-    sub = np.zeros(int(select.sum()) + 1, dtype=np.int64)
-    np.cumsum(counts[select], out=sub[1:])
-    return coords[np.repeat(select, counts)], sub
-
-
-def put_rings(
-    out: np.ndarray, out_starts: np.ndarray, index: np.ndarray, coords: np.ndarray,
-    starts: np.ndarray,
-) -> None:  # fmt: skip
-    """Copy ring ``k`` of ``(coords, starts)`` to the place of ring ``index[k]`` in ``out``."""
-    shift = np.repeat(out_starts[index] - starts[:-1], np.diff(starts))
-    out[np.arange(coords.shape[0]) + shift] = coords
-
-
 class Measures(NamedTuple):
     """What :func:`measure` finds, for a batch of objects in arrays.
 
@@ -265,29 +248,12 @@ class Measures(NamedTuple):
 
 def measure_batch_arrays(batch: MaskBatch) -> Measures:
     """:func:`measure` of every mask of a batch, in arrays (no per-object objects)."""
-    flat, starts, heights, widths = batch[:4]
-    filled_flat, coords, ring_starts, areas, sums = measure_batch(flat, starts, heights, widths)
-    corners = min_area_rectangles(coords, ring_starts)
-    long, short, edge = rectangle_sides(corners)
     # Thin burrs would stretch the hull: objects wide enough for an opening
     # (see opening_radius) are measured without what it removes, if that
     # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
-    wide = [i for i in np.flatnonzero(short >= 12).tolist() if opening_radius(float(short[i]))]
-    core_flat, changed, opened, opened_starts = open_burrs(
-        filled_flat, starts, heights, widths, np.array(wide, dtype=np.int64), coords, ring_starts
+    filled_flat, core_flat, coords, ring_starts, areas, sums, corners, long, short, edge = (
+        measure_cores(*batch[:4], float(_OPEN_WIDTH))
     )
-    if changed.any():
-        counts = np.diff(ring_starts)
-        counts[changed] = np.diff(opened_starts)
-        new_starts = np.zeros_like(ring_starts)
-        np.cumsum(counts, out=new_starts[1:])
-        new = np.empty((int(new_starts[-1]), 2))
-        kept = ~changed
-        put_rings(new, new_starts, np.flatnonzero(kept), *take_rings(coords, ring_starts, kept))
-        put_rings(new, new_starts, np.flatnonzero(changed), opened, opened_starts)
-        coords, ring_starts = new, new_starts
-        corners[changed] = min_area_rectangles(opened, opened_starts)
-        long[changed], short[changed], edge[changed] = rectangle_sides(corners[changed])
     # rows grow downwards, so the on-screen angle uses -dy
     angles = np.remainder(np.degrees(np.arctan2(-edge[:, 1], edge[:, 0])), 180.0)
     angles[angles > 180.0 - 1e-9] = 0.0
@@ -374,14 +340,19 @@ def _outlines_fourier(batch: np.ndarray, n_points: int, n_harmonics: int) -> np.
     return fourier_features(q, n_harmonics, normalize=True)
 
 
-def _rings_fourier(
-    coords: np.ndarray, ring_starts: np.ndarray, n_points: int, n_harmonics: int
-) -> np.ndarray:
-    """:func:`_outlines_fourier` of rings stored one after the other (not closed), compiled."""
-    cross, dot, bad = chord_turns(coords, ring_starts, n_points)
-    if bad:
-        raise InputError("an outline has zero perimeter or two coinciding chord ends")
-    return fourier_features(np.arctan2(cross, dot), n_harmonics, normalize=True)
+def _turning_fourier(q: np.ndarray, n_harmonics: int) -> np.ndarray:
+    """``fourier_features(q, n_harmonics, normalize=True)`` of turning angles, unchecked.
+
+    ``q`` (n, n_points) holds angles in [-pi, pi] and ``n_harmonics`` is
+    valid (the model checks it): the same computation without the checks and
+    the dispatch, which cost more than the product on a small batch.
+    """
+    n = q.shape[1]
+    out = np.empty((q.shape[0], n_harmonics))
+    kernel = _features_matmul if n <= MATMUL_MAX_JOINTS else _features_fft
+    kernel(q, n_harmonics, False, 2 * np.pi, True, out)
+    out /= n
+    return out
 
 
 def hull_features(
@@ -394,28 +365,21 @@ def hull_features(
     n_harmonics: int,
 ) -> np.ndarray:
     """The ``"hull"`` group of every object from its hull ring (closed, one after the other)."""
-    # shapely.area, shapely.length and shapely.minimum_bounding_radius, compiled
-    # (GEOS's algorithms and arithmetic: the same bits)
-    area, perimeter, radius = hull_measures(rings, ring_starts)
-    long = np.asarray(length, dtype=float)
-    short = np.asarray(width, dtype=float)
-    scalars = np.stack(
-        [
-            area / (long * short),
-            short / long,
-            4 * np.pi * area / perimeter**2,
-            area / (np.pi * radius**2),
-            1.0 / np.sqrt(np.asarray(pixels, dtype=float)),
-        ],
-        axis=1,
+    # the scalars from shapely.area, shapely.length and shapely.minimum_bounding_radius,
+    # compiled (GEOS's algorithms and arithmetic: the same bits), and the operands of
+    # the turning angles of each hull's chord walk, in one compiled pass
+    scalars, cross, dot, bad = hull_descriptors(
+        rings,
+        ring_starts,
+        np.asarray(length, dtype=float),
+        np.asarray(width, dtype=float),
+        np.asarray(pixels, dtype=float),
+        n_points,
     )
-    # the rings without their closing vertices
-    keep = np.ones(rings.shape[0], dtype=bool)
-    keep[ring_starts[1:] - 1] = False
-    open_starts = ring_starts - np.arange(ring_starts.size)
-    return np.concatenate(
-        [scalars, _rings_fourier(rings[keep], open_starts, n_points, n_harmonics)], axis=1
-    )
+    if bad:
+        raise InputError("an outline has zero perimeter or two coinciding chord ends")
+    turns = _turning_fourier(np.arctan2(cross, dot), n_harmonics)
+    return np.concatenate([scalars, turns], axis=1)
 
 
 def _hull_features(geoms: Sequence[Geometry], n_points: int, n_harmonics: int) -> np.ndarray:

@@ -164,13 +164,8 @@ def _defect_fields(
     defects: list[Defect],
 ) -> tuple[int, int, tuple[Defect, ...], tuple[str, ...]]:
     """Holes, their area, the defects and the reasons of a record."""
-    holes = [d for d in defects if d.kind == "hole"]
-    return (
-        len(holes),
-        int(sum(d.area for d in holes)),
-        tuple(defects),
-        tuple(_reason(d) for d in defects),
-    )
+    holes = [d.area for d in defects if d.kind == "hole"]
+    return len(holes), int(sum(holes)), tuple(defects), tuple(map(_reason, defects))
 
 
 def _check_options(
@@ -256,29 +251,26 @@ def inspect_masks(
         ]
     # the same records as _assemble gives, built in one pass: the numbers of all
     # objects at once (rounded as Python rounds), one Python object per record
-    hw = np.stack([batch.heights, batch.widths], axis=1)
-    boxes = np.concatenate([off, off + hw], axis=1).tolist()
+    bottoms = (off[:, 0] + batch.heights).tolist()
+    rights = (off[:, 1] + batch.widths).tolist()
+    boxes = list(zip(tops, lefts, bottoms, rights, strict=True))
     rows = rounded(m.sums[:, 0] / m.area + off[:, 0], 6).tolist()
     cols = rounded(m.sums[:, 1] / m.area + off[:, 1], 6).tolist()
-    flawed = [False] * n
-    for i in found:
-        flawed[i] = True
+    centroids = list(zip(rows, cols, strict=True))
+    fields: list[tuple[int, int, tuple[Defect, ...], tuple[str, ...]]] = [(0, 0, (), ())] * n
+    for i, listed in found.items():
+        fields[i] = _defect_fields(listed)
     out = []
     new = object.__new__
-    for i, (label, p, box, area, cr, cc, angle, long, short, bad) in enumerate(zip(
-        labels, rounded(confidence, 6).tolist(), boxes, m.area.tolist(), rows, cols,
-        m.orientation, m.length, m.width, flawed, strict=True,
-    )):  # fmt: skip
-        if bad:
-            holes, hole_area, listed, reasons = _defect_fields(found[i])
-        else:
-            holes, hole_area, listed, reasons = 0, 0, (), ()
+    for label, p, box, area, centroid, angle, long, short, (holes, hole_area, listed, why) in zip(
+        labels, rounded(confidence, 6).tolist(), boxes, m.area.tolist(), centroids,
+        m.orientation, m.length, m.width, fields, strict=True,
+    ):  # fmt: skip
         r = new(Inspection)  # new_inspection(...), without a call per object
         r.__dict__.update(
-            {"label": label, "confidence": p, "bbox": tuple(box), "area": area,
-             "centroid": (cr, cc), "orientation": angle, "length": long, "width": short,
-             "holes": holes, "hole_area": hole_area, "defects": listed, "accept": not bad,
-             "reasons": reasons}
+            {"label": label, "confidence": p, "bbox": box, "area": area, "centroid": centroid,
+             "orientation": angle, "length": long, "width": short, "holes": holes,
+             "hole_area": hole_area, "defects": listed, "accept": not listed, "reasons": why}
         )  # fmt: skip
         out.append(r)
     return out

@@ -181,6 +181,7 @@ class LineScanner:
         self._stage_rows = max(1, self.latency // 4)
         self._hold = self.latency - self._stage_rows if self.latency else 0
         self._stage: np.ndarray | None = None
+        self._slots: list[np.ndarray] = []
         self._n_stage = 0
         self._fast_dtype: np.dtype | None = None
         self._row_shape = (self.width,)
@@ -194,6 +195,7 @@ class LineScanner:
         # row, last row, first column, area, runs start, runs stop) and their runs
         self._pend = np.zeros((0, seg.N_OUT_FIELDS), dtype=np.int64)
         self._pend_runs = np.zeros((0, 3), dtype=np.int64)
+        self._pend_oldest = np.iinfo(np.int64).max  # the smallest last row pending
         self._pools = seg.new_pools(self.width, 256, 4096)
         self._bg = np.zeros(self.width, dtype=np.float64)
         self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
@@ -313,7 +315,7 @@ class LineScanner:
         ):
             # one row of a type that needs no checks, to the stage (a camera's case)
             k = self._n_stage
-            self._stage[k] = rows  # type: ignore[index]  # (staged rows have a stage)
+            self._slots[k][...] = rows  # (a copy of the same dtype: no cast)
             self._n_stage = k = k + 1
             self.rows_seen += 1
             return self._drain() if k == self._stage_rows else []
@@ -364,6 +366,9 @@ class LineScanner:
                 if not binary and arr.dtype in (np.uint8, np.uint16)
                 else None
             )
+            # the stage's rows as views of that type, one per slot
+            fast = self._fast_dtype
+            self._slots = [] if fast is None else list(self._stage.view(fast))
         i = 0
         while i < arr.shape[0]:
             k = min(arr.shape[0] - i, self._stage_rows - self._n_stage)
@@ -527,6 +532,7 @@ class LineScanner:
         p = self._pools
         new = p["out"][:n_out].copy()
         new[:, 5:7] += self._pend_runs.shape[0]
+        self._pend_oldest = min(self._pend_oldest, int(new[:, 2].min()))
         if self._pend.shape[0]:
             self._pend = np.concatenate([self._pend, new])
             self._pend_runs = np.concatenate([self._pend_runs, p["out_runs"][:n_runs]])
@@ -544,6 +550,8 @@ class LineScanner:
         go = np.ones(pend.shape[0], dtype=bool)
         if not final:
             newest = self._done_rows - 1
+            if newest - self._pend_oldest < hold:  # none has waited long enough
+                return []
             go = pend[:, 2] < newest
             if not go.any() or newest - int(pend[go, 2].min()) < hold:
                 return []
@@ -553,8 +561,10 @@ class LineScanner:
         if go.all():
             self._pend = pend[:0]
             self._pend_runs = runs[:0]
+            self._pend_oldest = np.iinfo(np.int64).max
         else:
             self._pend, self._pend_runs = seg.compact_output(pend[~go], runs)
+            self._pend_oldest = int(self._pend[:, 2].min())
         whole = out[:, 0] == 0
         inspections: list[Inspection] = []
         if whole.any():
