@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 
 from tentaclass import shapes
 from tentaclass.wrapping import wrap, wrap_many
+from wrap_checks import link_length
 
 MPEG7 = Path(
     os.environ.get(
@@ -122,7 +123,7 @@ def test_any_wrap_places_every_link(
     which, n, frac, start, direction, mode, offset_links, thickness
 ):
     outline = (THESIS + STARS)[which]
-    ln = min(frac * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
+    ln = link_length(outline, frac)
     offset = min(offset_links * ln, n * ln)
     w = wrap(outline, n, ln, start=start, direction=direction, mode=mode, offset=offset,
              thickness=thickness * ln)  # fmt: skip

@@ -1,11 +1,10 @@
 """Cases the fuzz profile found in the wrap generator, kept as explicit tests."""
 
-import numpy as np
 import pytest
-import shapely
 from test_wrap import OUTLINES, check_geometry
 
 from tentaclass.wrapping import wrap
+from wrap_checks import link_length
 
 
 @pytest.mark.xfail(
@@ -16,7 +15,7 @@ from tentaclass.wrapping import wrap
 )
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
     outline = OUTLINES["comb"]
-    ln = min(0.140625 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
+    ln = link_length(outline, 0.140625)
     w = wrap(outline, 6, ln, start=0.8125, direction="ccw", mode="taut")
     check_geometry(outline, w, ln)
 
@@ -29,7 +28,7 @@ def test_taut_comb_wrap_with_links_longer_than_the_slots():
 )
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
     outline = OUTLINES["L"]
-    ln = min(0.25 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
+    ln = link_length(outline, 0.25)
     w = wrap(outline, 6, ln, start=0.03125, direction="cw", mode="taut", offset=0.5 * ln)
     check_geometry(outline, w, ln)
 
@@ -43,6 +42,6 @@ def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
 @pytest.mark.parametrize("n, direction", [(1, "ccw"), (6, "cw")])
 def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_object(n, direction):
     outline = OUTLINES["L"]
-    ln = min(0.25 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
+    ln = link_length(outline, 0.25)
     w = wrap(outline, n, ln, start=0.5, direction=direction, mode="hug")
     check_geometry(outline, w, ln)
