@@ -1,47 +1,61 @@
-"""Cases the fuzz profile found in the wrap generator, kept as explicit tests."""
+"""Cases the fuzz profile found in the wrap generator, kept as explicit tests.
 
+Each is checked by ``check_geometry`` and by the independent contact-model
+check of ``chain_check`` (no link meets the outline outside the stretch
+between its own joints), and pinned to where a physical chain rests.
+"""
+
+import numpy as np
 import pytest
+import shapely
+from chain_check import object_violations
 from test_wrap import OUTLINES, check_geometry
 
 from tentaclass.wrapping import wrap
 from wrap_checks import link_length
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the comb, a taut chain whose links (3.4) are longer "
-    "than the slots are wide places its first link from a tooth's top across the hull to "
-    "the bottom edge, through the object",
-)
+def _rests_on(w, link, corner):
+    """Distance from ``corner`` to link ``link`` of the wrap."""
+    return shapely.distance(shapely.Point(corner), shapely.LineString(w.joints[link : link + 2]))
+
+
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
+    # the links (3.375) reach from a tooth's top across the hull to the bottom edge,
+    # through the object: the first one rests on the comb's top-left corner instead
     outline = OUTLINES["comb"]
     ln = link_length(outline, 0.140625)
     w = wrap(outline, 6, ln, start=0.8125, direction="ccw", mode="taut")
     check_geometry(outline, w, ln)
+    np.testing.assert_allclose(w.joints[:2], [[1, 3], [1 - ln, 3]], atol=1e-9)
+    assert not object_violations(outline, w.joints[:3], w.direction).any()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the L (arms 1 wide), a clockwise taut chain of six "
-    "2.85-long links with half a link of stand-off folds back on itself (joints 2 and 4 "
-    "coincide) and its last link, in the air, runs through the L's foot",
-)
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
+    # clockwise round the L (arms 1 wide) with six 2.85-long links and half a link of
+    # stand-off: from the hull's diagonal, in the air over the notch, the chain can
+    # reach no point of the hull; it folds back, and its last link, which ran through
+    # the L's foot towards the foot's far corner, rests on the foot's near corner
     outline = OUTLINES["L"]
     ln = link_length(outline, 0.25)
     w = wrap(outline, 6, ln, start=0.03125, direction="cw", mode="taut", offset=0.5 * ln)
     check_geometry(outline, w, ln)
+    assert _rests_on(w, 5, (3, 1)) < 1e-9
+    assert not object_violations(outline, w.joints, w.direction).any()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the L (arms 1 wide), a hugging chain of 2.85-long "
-    "links started at the inner corner begins in the notch, off the outline, and its "
-    "first link runs through the L's foot (any number of links, either direction)",
+@pytest.mark.parametrize(
+    "n, direction, corner", [(1, "ccw", (1, 3)), (6, "ccw", (1, 3)), (6, "cw", (3, 1))]
 )
-@pytest.mark.parametrize("n, direction", [(1, "ccw"), (6, "cw")])
-def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_object(n, direction):
+def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_object(
+    n, direction, corner
+):
+    # started in the notch, where the support bridges the inner corner, a 2.85-long link
+    # reaches no point of the support: it turns away from the object until it rests on
+    # the end of the arm it heads for, tip in the air (not through the L's foot)
     outline = OUTLINES["L"]
     ln = link_length(outline, 0.25)
     w = wrap(outline, n, ln, start=0.5, direction=direction, mode="hug")
     check_geometry(outline, w, ln)
+    assert _rests_on(w, 0, corner) < 1e-9
+    assert not object_violations(outline, w.joints, w.direction).any()

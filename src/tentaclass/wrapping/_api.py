@@ -432,9 +432,11 @@ def wrap(
     where the support offers no next joint (a link longer than the space
     around it), the link folds in towards the object, turning clockwise from
     nearly a half turn left of the previous link until it meets the object or
-    an earlier link, and the walk goes on from the support point nearest its
-    tip. Later laps lie on the support offset by ``thickness`` per lap, joined
-    to the previous lap at the start point. Where the straight approach
+    an earlier link (the first link, which has no earlier link to fold onto,
+    turns on away from the object to the first place it rests free), and the
+    walk goes on from the support point nearest its tip. Later laps lie on
+    the support offset by ``thickness`` per lap, joined to the previous lap
+    at the start point. Where the straight approach
     would pass through another part of the object, it turns (by up to 86
     degrees either way) to the nearest direction that clears it.
 

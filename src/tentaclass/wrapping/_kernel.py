@@ -26,6 +26,7 @@ from ._geom import (
     crossing_edge_range,
     free_direction,
     free_direction_links,
+    inside,
     locate,
 )
 
@@ -175,7 +176,8 @@ def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
     The link folds in towards the object from nearly a half turn left of the
     previous link and stops at the first thing it meets (the object or an
     earlier link; tip in the air); wedged, it folds back onto the previous
-    link. Returns the tip.
+    link. The first link, with no link to fold back onto, turns on away from
+    the object instead, to the first place it rests free. Returns the tip.
     """
     ph = phi[i - 1]
     last = max(i - 2, 0)
@@ -186,6 +188,11 @@ def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
         return xx, xy
     if i >= 2:
         return joints[i - 2, 0], joints[i - 2, 1]
+    ok, xx, xy, _ = free_direction_links(
+        ax, ay, np.cos(ph - 0.01 * np.pi), np.sin(ph - 0.01 * np.pi), ln, obj, eps, joints, last
+    )
+    if ok:
+        return xx, xy
     return ax - ln * np.cos(ph), ay - ln * np.sin(ph)
 
 
@@ -341,7 +348,8 @@ def walk(
             ):
                 i0 = vidx[(es[0] + sj) % m0] - 1
                 i1 = vidx[(es[0] + j + 1) % m0]
-                cnt = (i1 - i0) % m_obj + 2
+                # the outline edges under the hull edges spanned, one more either side
+                cnt = min((i1 - i0 - 1) % m_obj + 3, m_obj)
                 if (k - sk) * m0 + j - sj >= m0 - 1:
                     cnt = m_obj
                 cross = crossing_edge_range(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt) >= 0
@@ -410,10 +418,16 @@ def walk(
             else:
                 rr = np.hypot(wx - ax, wy - ay)
                 xx, xy = ax + ln * (wx - ax) / rr, ay + ln * (wy - ay) / rr
-            # On a convex support (the hull) the link along the hull edge is
-            # free. Otherwise it may still be blocked: turn it on clockwise to
-            # the first outline vertex where it is free.
+            # On a convex support (the hull) a link that stays outside the
+            # hull is free (a folded link's tip can lie inside the hull, and
+            # the vertex rested on need not be the tangent one). Otherwise it
+            # may still be blocked: turn it on clockwise to the first outline
+            # vertex where it is free.
             convex = vidx.shape[0] > 0 and (off.shape[0] == 2 or wk == 0)
+            if convex:
+                hull = pts[off[0] : off[1]]
+                if inside(ax, ay, hull, np.sqrt(eps)) or crosses(ax, ay, xx, xy, hull, eps):
+                    convex = False
             tip_on = False
             for _ in range(0 if convex else 64):
                 e = crossing_edge(ax, ay, xx, xy, obj, eps)
