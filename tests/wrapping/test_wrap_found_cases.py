@@ -59,3 +59,16 @@ def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_objec
     check_geometry(outline, w, ln)
     assert _rests_on(w, 0, corner) < 1e-9
     assert not object_violations(outline, w.joints, w.direction).any()
+
+
+def test_taut_comb_wrap_from_a_joint_in_the_air():
+    # a link from a joint in the air above the comb (after the chain folded back)
+    # to the hull's bottom edge ran down through the teeth: tested only against
+    # the outline under the hull edges its cursor spanned, as if it joined two
+    # points of the hull. It rests on the comb's top-left corner instead
+    outline = OUTLINES["comb"]
+    ln = link_length(outline, 0.25)
+    w = wrap(outline, 6, ln, start=0.203125, direction="ccw", mode="taut", offset=0.5 * ln)
+    check_geometry(outline, w, ln)
+    assert _rests_on(w, 5, (0, 3)) < 1e-9
+    assert not object_violations(outline, w.joints, w.direction).any()

@@ -339,6 +339,7 @@ def walk(
         if check >= 2 and bridged:
             if (
                 vidx.shape[0] > 0
+                and lap[i - 1] >= 0
                 and sk >= 0
                 and k >= 0
                 and min(sk, k) < n_laps
