@@ -2,10 +2,9 @@
 
 Each is checked by ``check_geometry`` and by the independent contact-model
 check of ``chain_check`` (no link meets the outline outside the stretch
-between its own joints), and pinned to where a physical chain rests.
+between its own joints), and pinned to the corner a physical chain rests on.
 """
 
-import numpy as np
 import pytest
 import shapely
 from chain_check import object_violations
@@ -15,20 +14,25 @@ from tentaclass.wrapping import wrap
 from wrap_checks import link_length
 
 
-def _rests_on(w, link, corner):
-    """Distance from ``corner`` to link ``link`` of the wrap."""
-    return shapely.distance(shapely.Point(corner), shapely.LineString(w.joints[link : link + 2]))
+def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **kw):
+    """Wrap ``OUTLINES[name]``, check it, and check that link ``link`` passes ``corner``.
+
+    The first ``n_clean`` links (all if None) must pass the contact-model check.
+    """
+    outline = OUTLINES[name]
+    ln = link_length(outline, frac)
+    w = wrap(outline, n, ln, offset=offset_links * ln, **kw)
+    check_geometry(outline, w, ln)
+    line = shapely.LineString(w.joints[link : link + 2])
+    assert shapely.distance(shapely.Point(corner), line) < 1e-9
+    assert not object_violations(outline, w.joints, w.direction)[:n_clean].any()
 
 
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
     # the links (3.375) reach from a tooth's top across the hull to the bottom edge,
     # through the object: the first one rests on the comb's top-left corner instead
-    outline = OUTLINES["comb"]
-    ln = link_length(outline, 0.140625)
-    w = wrap(outline, 6, ln, start=0.8125, direction="ccw", mode="taut")
-    check_geometry(outline, w, ln)
-    np.testing.assert_allclose(w.joints[:2], [[1, 3], [1 - ln, 3]], atol=1e-9)
-    assert not object_violations(outline, w.joints[:3], w.direction).any()
+    # (the fourth, a chord across the bottom-right corner, dips into the last slot)
+    check_rests("comb", 0.140625, 6, 0, (0, 3), n_clean=3, start=0.8125, mode="taut")
 
 
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
@@ -36,12 +40,8 @@ def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
     # stand-off: from the hull's diagonal, in the air over the notch, the chain can
     # reach no point of the hull; it folds back, and its last link, which ran through
     # the L's foot towards the foot's far corner, rests on the foot's near corner
-    outline = OUTLINES["L"]
-    ln = link_length(outline, 0.25)
-    w = wrap(outline, 6, ln, start=0.03125, direction="cw", mode="taut", offset=0.5 * ln)
-    check_geometry(outline, w, ln)
-    assert _rests_on(w, 5, (3, 1)) < 1e-9
-    assert not object_violations(outline, w.joints, w.direction).any()
+    check_rests("L", 0.25, 6, 5, (3, 1), offset_links=0.5, start=0.03125, direction="cw",
+                mode="taut")  # fmt: skip
 
 
 @pytest.mark.parametrize(
@@ -53,12 +53,7 @@ def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_objec
     # started in the notch, where the support bridges the inner corner, a 2.85-long link
     # reaches no point of the support: it turns away from the object until it rests on
     # the end of the arm it heads for, tip in the air (not through the L's foot)
-    outline = OUTLINES["L"]
-    ln = link_length(outline, 0.25)
-    w = wrap(outline, n, ln, start=0.5, direction=direction, mode="hug")
-    check_geometry(outline, w, ln)
-    assert _rests_on(w, 0, corner) < 1e-9
-    assert not object_violations(outline, w.joints, w.direction).any()
+    check_rests("L", 0.25, n, 0, corner, start=0.5, direction=direction, mode="hug")
 
 
 def test_taut_comb_wrap_from_a_joint_in_the_air():
@@ -66,9 +61,4 @@ def test_taut_comb_wrap_from_a_joint_in_the_air():
     # to the hull's bottom edge ran down through the teeth: tested only against
     # the outline under the hull edges its cursor spanned, as if it joined two
     # points of the hull. It rests on the comb's top-left corner instead
-    outline = OUTLINES["comb"]
-    ln = link_length(outline, 0.25)
-    w = wrap(outline, 6, ln, start=0.203125, direction="ccw", mode="taut", offset=0.5 * ln)
-    check_geometry(outline, w, ln)
-    assert _rests_on(w, 5, (0, 3)) < 1e-9
-    assert not object_violations(outline, w.joints, w.direction).any()
+    check_rests("comb", 0.25, 6, 5, (0, 3), offset_links=0.5, start=0.203125, mode="taut")
