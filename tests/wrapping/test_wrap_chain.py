@@ -17,6 +17,7 @@ from chain_check import chain_problems
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass import shapes
 from tentaclass.wrapping import wrap, wrap_many
 from wrap_checks import link_length
@@ -104,7 +105,7 @@ def test_spread_of_mpeg7_outlines_place_every_link(mode):
     assert not bad, (len(bad), [(names[pick[i]], c, f) for i, c, f in bad[:5]])
 
 
-@settings(max_examples=40, deadline=None, derandomize=True)
+@settings(max_examples=examples(40), deadline=None)
 @given(
     which=st.integers(0, len(THESIS + STARS) - 1),
     n=st.integers(1, 150),

@@ -5,6 +5,7 @@ check of ``chain_check`` (no link meets the outline outside the stretch
 between its own joints), and pinned to the corner a physical chain rests on.
 """
 
+import numpy as np
 import pytest
 import shapely
 from chain_check import object_violations
@@ -62,3 +63,14 @@ def test_taut_comb_wrap_from_a_joint_in_the_air():
     # the outline under the hull edges its cursor spanned, as if it joined two
     # points of the hull. It rests on the comb's top-left corner instead
     check_rests("comb", 0.25, 6, 5, (0, 3), offset_links=0.5, start=0.203125, mode="taut")
+
+
+@pytest.mark.parametrize("mode", ["taut", "hug"])
+def test_a_vanishing_thickness_is_no_thickness(mode):
+    # a lap offset by 1e-150 is empty in shapely's buffer: the wrap failed with an
+    # IndexError; a thickness below what a buffer resolves counts as none
+    square = OUTLINES["square"]
+    thin = wrap(square, 30, 0.9, mode=mode, thickness=1e-150)
+    none = wrap(square, 30, 0.9, mode=mode)
+    np.testing.assert_array_equal(thin.angles, none.angles)
+    assert thin.complete and thin.laps > 2

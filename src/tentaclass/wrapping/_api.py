@@ -398,8 +398,8 @@ def wrap(
         Makes the noise reproducible.
     thickness : float, default=0.0
         Chain thickness: lap ``k`` lies on the support offset outward by
-        ``k * thickness`` (shapely buffer, round joins). 0: later laps lie on the
-        first lap's support.
+        ``k * thickness`` (shapely buffer, round joins). 0 (or below ``1e-9``
+        of the object's extent): later laps lie on the first lap's support.
     seed : int or numpy.random.Generator, optional
         Deprecated alias of ``random_state``.
 
