@@ -23,3 +23,9 @@ def crossing_links(outline: np.ndarray, joints: np.ndarray, rel_tol: float = 1e-
     inside = shapely.length(shapely.intersection(lines, inner)) > 0
     outside = shapely.length(shapely.difference(lines, outer)) > 0
     return inside & outside
+
+
+def link_length(outline: np.ndarray, frac: float) -> float:
+    """A link ``frac`` of the perimeter long, at most 0.95 of the object's largest extent."""
+    largest = float(np.ptp(outline, axis=0).max())
+    return min(frac * shapely.LinearRing(outline).length, 0.95 * largest)

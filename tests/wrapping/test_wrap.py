@@ -9,7 +9,7 @@ from tentaclass import shapes
 from tentaclass.errors import InputError
 from tentaclass.geometry import angles_to_points, points_to_angles
 from tentaclass.wrapping import WrapBatch, closing_link_length, wrap, wrap_many
-from wrap_checks import crossing_links
+from wrap_checks import crossing_links, link_length
 
 PI = np.pi
 
@@ -114,8 +114,7 @@ def check_geometry(outline, w, ln):
 @example(name="L", n=1, frac=0.25, start=0.0, direction="ccw", mode="taut", offset_links=2.7)
 def test_wrap_geometry_properties(name, n, frac, start, direction, mode, offset_links):
     outline = OUTLINES[name]
-    per = shapely.LinearRing(outline).length
-    ln = min(frac * per, 0.95 * np.ptp(outline, axis=0).max())
+    ln = link_length(outline, frac)
     offset_links = min(offset_links, n)  # the chain must reach the object
     w = wrap(outline, n, ln, start=start, direction=direction, mode=mode,
              offset=offset_links * ln)  # fmt: skip

@@ -17,8 +17,10 @@ from chain_check import chain_problems
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from strategies import examples
 from tentaclass import shapes
 from tentaclass.wrapping import wrap, wrap_many
+from wrap_checks import link_length
 
 MPEG7 = Path(
     os.environ.get(
@@ -103,7 +105,7 @@ def test_spread_of_mpeg7_outlines_place_every_link(mode):
     assert not bad, (len(bad), [(names[pick[i]], c, f) for i, c, f in bad[:5]])
 
 
-@settings(max_examples=40, deadline=None, derandomize=True)
+@settings(max_examples=examples(40), deadline=None)
 @given(
     which=st.integers(0, len(THESIS + STARS) - 1),
     n=st.integers(1, 150),
@@ -122,7 +124,7 @@ def test_any_wrap_places_every_link(
     which, n, frac, start, direction, mode, offset_links, thickness
 ):
     outline = (THESIS + STARS)[which]
-    ln = min(frac * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
+    ln = link_length(outline, frac)
     offset = min(offset_links * ln, n * ln)
     w = wrap(outline, n, ln, start=start, direction=direction, mode=mode, offset=offset,
              thickness=thickness * ln)  # fmt: skip

@@ -1,48 +1,76 @@
-"""Cases the fuzz profile found in the wrap generator, kept as explicit tests."""
+"""Cases the fuzz profile found in the wrap generator, kept as explicit tests.
+
+Each is checked by ``check_geometry`` and by the independent contact-model
+check of ``chain_check`` (no link meets the outline outside the stretch
+between its own joints), and pinned to the corner a physical chain rests on.
+"""
 
 import numpy as np
 import pytest
 import shapely
+from chain_check import object_violations
 from test_wrap import OUTLINES, check_geometry
 
 from tentaclass.wrapping import wrap
+from wrap_checks import link_length
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the comb, a taut chain whose links (3.4) are longer "
-    "than the slots are wide places its first link from a tooth's top across the hull to "
-    "the bottom edge, through the object",
-)
+def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **kw):
+    """Wrap ``OUTLINES[name]``, check it, and check that link ``link`` passes ``corner``.
+
+    The first ``n_clean`` links (all if None) must pass the contact-model check.
+    """
+    outline = OUTLINES[name]
+    ln = link_length(outline, frac)
+    w = wrap(outline, n, ln, offset=offset_links * ln, **kw)
+    check_geometry(outline, w, ln)
+    line = shapely.LineString(w.joints[link : link + 2])
+    assert shapely.distance(shapely.Point(corner), line) < 1e-9
+    assert not object_violations(outline, w.joints, w.direction)[:n_clean].any()
+
+
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
-    outline = OUTLINES["comb"]
-    ln = min(0.140625 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
-    w = wrap(outline, 6, ln, start=0.8125, direction="ccw", mode="taut")
-    check_geometry(outline, w, ln)
+    # the links (3.375) reach from a tooth's top across the hull to the bottom edge,
+    # through the object: the first one rests on the comb's top-left corner instead
+    # (the fourth, a chord across the bottom-right corner, dips into the last slot)
+    check_rests("comb", 0.140625, 6, 0, (0, 3), n_clean=3, start=0.8125, mode="taut")
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the L (arms 1 wide), a clockwise taut chain of six "
-    "2.85-long links with half a link of stand-off folds back on itself (joints 2 and 4 "
-    "coincide) and its last link, in the air, runs through the L's foot",
-)
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
-    outline = OUTLINES["L"]
-    ln = min(0.25 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
-    w = wrap(outline, 6, ln, start=0.03125, direction="cw", mode="taut", offset=0.5 * ln)
-    check_geometry(outline, w, ln)
+    # clockwise round the L (arms 1 wide) with six 2.85-long links and half a link of
+    # stand-off: from the hull's diagonal, in the air over the notch, the chain can
+    # reach no point of the hull; it folds back, and its last link, which ran through
+    # the L's foot towards the foot's far corner, rests on the foot's near corner
+    check_rests("L", 0.25, 6, 5, (3, 1), offset_links=0.5, start=0.03125, direction="cw",
+                mode="taut")  # fmt: skip
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="generator limitation: on the L (arms 1 wide), a hugging chain of 2.85-long "
-    "links started at the inner corner begins in the notch, off the outline, and its "
-    "first link runs through the L's foot (any number of links, either direction)",
+@pytest.mark.parametrize(
+    "n, direction, corner", [(1, "ccw", (1, 3)), (6, "ccw", (1, 3)), (6, "cw", (3, 1))]
 )
-@pytest.mark.parametrize("n, direction", [(1, "ccw"), (6, "cw")])
-def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_object(n, direction):
-    outline = OUTLINES["L"]
-    ln = min(0.25 * shapely.LinearRing(outline).length, 0.95 * np.ptp(outline, axis=0).max())
-    w = wrap(outline, n, ln, start=0.5, direction=direction, mode="hug")
-    check_geometry(outline, w, ln)
+def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_object(
+    n, direction, corner
+):
+    # started in the notch, where the support bridges the inner corner, a 2.85-long link
+    # reaches no point of the support: it turns away from the object until it rests on
+    # the end of the arm it heads for, tip in the air (not through the L's foot)
+    check_rests("L", 0.25, n, 0, corner, start=0.5, direction=direction, mode="hug")
+
+
+def test_taut_comb_wrap_from_a_joint_in_the_air():
+    # a link from a joint in the air above the comb (after the chain folded back)
+    # to the hull's bottom edge ran down through the teeth: tested only against
+    # the outline under the hull edges its cursor spanned, as if it joined two
+    # points of the hull. It rests on the comb's top-left corner instead
+    check_rests("comb", 0.25, 6, 5, (0, 3), offset_links=0.5, start=0.203125, mode="taut")
+
+
+@pytest.mark.parametrize("mode", ["taut", "hug"])
+def test_a_vanishing_thickness_is_no_thickness(mode):
+    # a lap offset by 1e-150 is empty in shapely's buffer: the wrap failed with an
+    # IndexError; a thickness below what a buffer resolves counts as none
+    square = OUTLINES["square"]
+    thin = wrap(square, 30, 0.9, mode=mode, thickness=1e-150)
+    none = wrap(square, 30, 0.9, mode=mode)
+    np.testing.assert_array_equal(thin.angles, none.angles)
+    assert thin.complete and thin.laps > 2

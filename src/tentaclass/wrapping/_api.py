@@ -398,8 +398,8 @@ def wrap(
         Makes the noise reproducible.
     thickness : float, default=0.0
         Chain thickness: lap ``k`` lies on the support offset outward by
-        ``k * thickness`` (shapely buffer, round joins). 0: later laps lie on the
-        first lap's support.
+        ``k * thickness`` (shapely buffer, round joins). 0 (or below ``1e-9``
+        of the object's extent): later laps lie on the first lap's support.
     seed : int or numpy.random.Generator, optional
         Deprecated alias of ``random_state``.
 
@@ -432,9 +432,11 @@ def wrap(
     where the support offers no next joint (a link longer than the space
     around it), the link folds in towards the object, turning clockwise from
     nearly a half turn left of the previous link until it meets the object or
-    an earlier link, and the walk goes on from the support point nearest its
-    tip. Later laps lie on the support offset by ``thickness`` per lap, joined
-    to the previous lap at the start point. Where the straight approach
+    an earlier link (the first link, which has no earlier link to fold onto,
+    turns on away from the object to the first place it rests free), and the
+    walk goes on from the support point nearest its tip. Later laps lie on
+    the support offset by ``thickness`` per lap, joined to the previous lap
+    at the start point. Where the straight approach
     would pass through another part of the object, it turns (by up to 86
     degrees either way) to the nearest direction that clears it.
 

@@ -101,6 +101,43 @@ def crossing_edge_range(ax, ay, bx, by, obj, eps, first, count):
     return -1
 
 
+#: Edges per block of :func:`edge_boxes`.
+BOX_EDGES = 16
+
+
+@nb.njit(cache=True)
+def edge_boxes(obj):
+    """Bounding box ``(x_min, x_max, y_min, y_max)`` of each block of ``BOX_EDGES`` edges."""
+    m = obj.shape[0]
+    nb_ = (m + BOX_EDGES - 1) // BOX_EDGES
+    boxes = np.empty((nb_, 4))
+    for b in range(nb_):
+        lo = b * BOX_EDGES
+        hi = min(lo + BOX_EDGES, m)  # the last edge of the block ends at vertex hi
+        boxes[b, 0], boxes[b, 1] = np.inf, -np.inf
+        boxes[b, 2], boxes[b, 3] = np.inf, -np.inf
+        for v in range(lo, hi + 1):
+            x, y = obj[v % m, 0], obj[v % m, 1]
+            boxes[b, 0], boxes[b, 1] = min(boxes[b, 0], x), max(boxes[b, 1], x)
+            boxes[b, 2], boxes[b, 3] = min(boxes[b, 2], y), max(boxes[b, 3], y)
+    return boxes
+
+
+@nb.njit(cache=True)
+def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
+    """:func:`crosses`, testing only the blocks of edges whose box meets the segment's."""
+    m = obj.shape[0]
+    lox, hix = min(ax, bx), max(ax, bx)
+    loy, hiy = min(ay, by), max(ay, by)
+    for b in range(boxes.shape[0]):
+        if boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy:
+            continue
+        first = b * BOX_EDGES
+        if crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first)) >= 0:
+            return True
+    return False
+
+
 @nb.njit(cache=True)
 def locate(points, curve):
     """Nearest point on the closed polyline ``curve`` to each of ``points``.
@@ -235,6 +272,39 @@ def inside(x, y, obj, eps):
         d = (x0 + t * dx - x) ** 2 + (y0 + t * dy - y) ** 2
         dmin = min(dmin, d)
     return wn and dmin > eps * eps
+
+
+@nb.njit(cache=True)
+def enters_convex(ax, ay, bx, by, hull, eps):
+    """True if segment a-b has points inside the convex ccw polygon ``hull``.
+
+    Inside means further than ``sqrt(eps)`` from its outline: ending on the
+    outline or touching it does not count. The segment is clipped to each
+    edge's inner half-plane in turn (Cyrus-Beck).
+    """
+    r = np.sqrt(eps)
+    m = hull.shape[0]
+    t_lo, t_hi = 0.0, 1.0
+    for i in range(m):
+        i2 = i + 1 if i + 1 < m else 0
+        ex, ey = hull[i2, 0] - hull[i, 0], hull[i2, 1] - hull[i, 1]
+        ll = np.sqrt(ex * ex + ey * ey)
+        if ll == 0.0:
+            continue
+        fa = ex * (ay - hull[i, 1]) - ey * (ax - hull[i, 0]) - r * ll
+        fb = ex * (by - hull[i, 1]) - ey * (bx - hull[i, 0]) - r * ll
+        if fa <= 0.0 and fb <= 0.0:
+            return False
+        if fa > 0.0 and fb > 0.0:
+            continue
+        t = fa / (fa - fb)
+        if fa <= 0.0:
+            t_lo = max(t_lo, t)
+        else:
+            t_hi = min(t_hi, t)
+        if t_hi <= t_lo:
+            return False
+    return True
 
 
 @nb.njit(cache=True)

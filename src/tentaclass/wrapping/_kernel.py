@@ -22,8 +22,11 @@ from ._geom import (
     TWO_PI,
     _near,
     crosses,
+    crosses_boxed,
     crossing_edge,
     crossing_edge_range,
+    edge_boxes,
+    enters_convex,
     free_direction,
     free_direction_links,
     locate,
@@ -175,7 +178,8 @@ def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
     The link folds in towards the object from nearly a half turn left of the
     previous link and stops at the first thing it meets (the object or an
     earlier link; tip in the air); wedged, it folds back onto the previous
-    link. Returns the tip.
+    link. The first link, with no link to fold back onto, turns on away from
+    the object instead, to the first place it rests free. Returns the tip.
     """
     ph = phi[i - 1]
     last = max(i - 2, 0)
@@ -186,6 +190,11 @@ def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
         return xx, xy
     if i >= 2:
         return joints[i - 2, 0], joints[i - 2, 1]
+    ok, xx, xy, _ = free_direction_links(
+        ax, ay, np.cos(ph - 0.01 * np.pi), np.sin(ph - 0.01 * np.pi), ln, obj, eps, joints, last
+    )
+    if ok:
+        return xx, xy
     return ax - ln * np.cos(ph), ay - ln * np.sin(ph)
 
 
@@ -245,6 +254,7 @@ def walk(
     exact,
     bridge_limit,
     vidx,
+    boxes,
     joints,
     contact,
     lap,
@@ -259,7 +269,10 @@ def walk(
     ``bridge_limit`` of arc) for a point the link can reach without crossing.
     ``vidx`` (taut): the outline index of each hull vertex; a link between two
     points of curve 0 is then only tested against the outline between the hull
-    vertices around it (the only part of the object its hull cap can hold).
+    vertices around it (the only part of the object its hull cap can hold), as
+    is a link from a tip beyond the hull vertex its link rests on; a link from
+    another joint in the air, against the whole outline if it enters the hull.
+    ``boxes``: :func:`edge_boxes` of ``obj``.
     Returns ``(status, n_placed, phi_virtual)``.
     """
     m0 = off[1] - off[0]
@@ -280,6 +293,7 @@ def walk(
     land = LANDING * ln
     if approach and np.hypot(base[0] - spt[0, 0], base[1] - spt[0, 1]) <= land:
         a_sup = True
+    a_rest = False  # the joint is a tip beyond the hull vertex its link rests on
     ax, ay = px, py
     joints[0, 0], joints[0, 1] = ax, ay
     contact[0] = a_on and k == 0
@@ -320,7 +334,7 @@ def walk(
             contact[i] = False
             lap[i] = -1
             k, j, px, py = _relocate(xx, xy, k, j, px, py, pts, off, es)
-            ax, ay, a_th, a_sup = xx, xy, phi[i], False
+            ax, ay, a_th, a_sup, a_rest = xx, xy, phi[i], False, False
             placed = i
             continue
         k, j, xx, xy, x_th, x_dev = r[1], r[2], r[3], r[4], r[5], r[6]
@@ -329,8 +343,15 @@ def walk(
             bridged = x_dev > slack
         overhang = False
         cross = False
+        x_rest = False
         if check >= 2 and bridged:
-            if (
+            if vidx.shape[0] > 0 and lap[i - 1] < 0 and not a_rest:
+                # from a joint in the air (other than a tip beyond the hull
+                # vertex its link rests on) only a link that enters the hull
+                # can meet the object, anywhere in it
+                if enters_convex(ax, ay, xx, xy, pts[off[0] : off[1]], eps):
+                    cross = crosses_boxed(ax, ay, xx, xy, obj, eps, boxes)
+            elif (
                 vidx.shape[0] > 0
                 and sk >= 0
                 and k >= 0
@@ -341,12 +362,13 @@ def walk(
             ):
                 i0 = vidx[(es[0] + sj) % m0] - 1
                 i1 = vidx[(es[0] + j + 1) % m0]
-                cnt = (i1 - i0) % m_obj + 2
+                # the outline edges under the hull edges spanned, one more either side
+                cnt = min((i1 - i0 - 1) % m_obj + 3, m_obj)
                 if (k - sk) * m0 + j - sj >= m0 - 1:
                     cnt = m_obj
                 cross = crossing_edge_range(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt) >= 0
             else:
-                cross = crosses(ax, ay, xx, xy, obj, eps)
+                cross = crosses_boxed(ax, ay, xx, xy, obj, eps, boxes)
         if cross:
             overhang = True
             if check == 3:  # look further along for a point the link can reach
@@ -380,7 +402,7 @@ def walk(
                         break
                     used += r2[8]
                     ck, cj, cx, cy = r2[1], r2[2], r2[3], r2[4]
-                    if not crosses(ax, ay, cx, cy, obj, eps):
+                    if not crosses_boxed(ax, ay, cx, cy, obj, eps, boxes):
                         k, j, xx, xy, x_th, x_dev = ck, cj, cx, cy, r2[5], r2[6]
                         overhang = False
                         break
@@ -410,10 +432,16 @@ def walk(
             else:
                 rr = np.hypot(wx - ax, wy - ay)
                 xx, xy = ax + ln * (wx - ax) / rr, ay + ln * (wy - ay) / rr
-            # On a convex support (the hull) the link along the hull edge is
-            # free. Otherwise it may still be blocked: turn it on clockwise to
-            # the first outline vertex where it is free.
+                x_rest = rr <= ln
+            # On a convex support (the hull) a link that stays outside the
+            # hull is free (a folded link's tip can lie inside the hull, and
+            # the vertex rested on need not be the tangent one). Otherwise it
+            # may still be blocked: turn it on clockwise to the first outline
+            # vertex where it is free.
             convex = vidx.shape[0] > 0 and (off.shape[0] == 2 or wk == 0)
+            if convex and enters_convex(ax, ay, xx, xy, pts[off[0] : off[1]], eps):
+                convex = False
+            x_rest = x_rest and convex
             tip_on = False
             for _ in range(0 if convex else 64):
                 e = crossing_edge(ax, ay, xx, xy, obj, eps)
@@ -431,7 +459,7 @@ def walk(
                     break
                 rv = np.hypot(vx, vy)
                 xx, xy = ax + ln * vx / rv, ay + ln * vy / rv
-            if not convex and crosses(ax, ay, xx, xy, obj, eps):
+            if not convex and crosses_boxed(ax, ay, xx, xy, obj, eps, boxes):
                 ok, xx, xy, tip_on = free_direction(ax, ay, xx - ax, xy - ay, ln, obj, eps)
                 if not ok:  # wedged
                     xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
@@ -456,7 +484,7 @@ def walk(
         phi[i] = _near(np.arctan2(xy - ay, xx - ax), 0.5 * (a_th + x_th))
         joints[i, 0], joints[i, 1] = xx, xy
         contact[i] = x_on
-        ax, ay, a_th, a_sup = xx, xy, x_th, x_sup
+        ax, ay, a_th, a_sup, a_rest = xx, xy, x_th, x_sup, x_rest
         placed = i
     return status, placed, phi_v
 
@@ -494,6 +522,7 @@ def walk_many(
     status = np.empty(b, np.int64)
     placed = np.empty(b, np.int64)
     phi_v = np.empty(b)
+    boxes = edge_boxes(obj)
     for q in range(b):
         s, p, v = walk(
             n,
@@ -517,6 +546,7 @@ def walk_many(
             exact,
             bridge_limit,
             vidx,
+            boxes,
             joints[q],
             contact[q],
             lap[q],

@@ -15,6 +15,9 @@ from ..shapes import signed_area
 
 __all__ = ["Surface", "build_surface", "point_at_fraction"]
 
+#: A chain thickness below this fraction of the object's extent is taken as 0.
+_NEGLIGIBLE = 1e-9
+
 
 @dataclass(frozen=True)
 class Surface:
@@ -176,10 +179,13 @@ def build_surface(
     ``"taut"``: lap 0 is the convex hull. ``"hug"``: lap 0 is the boundary of the
     outline's closing by a disc of diameter ``link_length`` (concavities
     narrower than a link are bridged, wider ones followed), the diameter
-    rounded to 0.07 % so that nearby link lengths share a surface.
+    rounded to 0.07 % so that nearby link lengths share a surface. A
+    ``thickness`` below ``1e-9`` of the object's extent counts as 0.
     """
     if mirror:
         outline = np.ascontiguousarray((outline * [-1.0, 1.0])[::-1])
+    if thickness <= _NEGLIGIBLE * float(np.ptp(outline, axis=0).max()):
+        thickness = 0.0  # below what a buffer resolves: the laps lie on one support
     if thickness == 0:
         arc_needed = 0.0
     else:  # bucket so that nearby chain lengths share a cached surface

@@ -1,0 +1,40 @@
+"""The compiled crossing tests of the walk against shapely and against each other."""
+
+import numpy as np
+import shapely
+from test_wrap import star
+
+from tentaclass.wrapping._geom import crosses, crosses_boxed, edge_boxes, enters_convex
+
+
+def random_segments(rng, n, lo, hi):
+    return rng.uniform(lo, hi, (n, 2, 2))
+
+
+def test_blocked_crossing_test_agrees_with_the_plain_one(rng):
+    # 100 vertices: the edges fall in 7 blocks, the last one short
+    outline = star(50, 1.0, 2.0, 0.1)
+    boxes = edge_boxes(outline)
+    assert boxes.shape == (7, 4)
+    segs = random_segments(rng, 3000, -2.5, 2.5)
+    eps = 1e-12 * 4.0**2
+    plain = [crosses(*a, *b, outline, eps) for a, b in segs]
+    boxed = [crosses_boxed(*a, *b, outline, eps, boxes) for a, b in segs]
+    assert plain == boxed
+    assert 0.2 < np.mean(plain) < 0.9  # both kinds of segment are drawn
+
+
+def test_entering_a_convex_polygon_agrees_with_shapely(rng):
+    hull = np.asarray(shapely.Polygon(star(5, 0.8, 2.0)).convex_hull.exterior.coords)[:-1]
+    hull = hull if shapely.LinearRing(hull).is_ccw else hull[::-1]
+    body = shapely.Polygon(hull).buffer(-1e-6)
+    segs = random_segments(rng, 3000, -3.0, 3.0)
+    got = np.array([enters_convex(*a, *b, hull, 1e-12) for a, b in segs])
+    want = shapely.length(shapely.intersection(shapely.linestrings(segs), body)) > 0
+    np.testing.assert_array_equal(got, want)
+    assert 0.2 < got.mean() < 0.9
+    # along an edge, ending on the outline, touching a vertex: not inside
+    a, b = hull[0], hull[1]
+    assert not enters_convex(*a, *b, hull, 1e-12)
+    assert not enters_convex(*(2 * a - b), *a, hull, 1e-12)
+    assert enters_convex(*a, *hull[2], hull, 1e-12)
