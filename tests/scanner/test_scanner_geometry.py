@@ -231,3 +231,17 @@ def test_outline_area_bounds_and_orientation_are_shapelys(outline):
     assert np.array_equal(area, shapely.area(polys))
     assert np.array_equal(bounds, shapely.bounds(polys))
     assert np.array_equal(oriented, shapely.get_coordinates(shapely.orient_polygons(polys)))
+
+
+@pytest.mark.parametrize("n_harmonics, n_points", [(33, 64), (0, 64), (-1, 64), (2, 3)])
+def test_hull_features_refuse_harmonics_the_walk_cannot_hold(n_harmonics, n_points):
+    from tentaclass.errors import InputError
+    from tentaclass.scanner.descriptors import features_matrix, measure
+
+    g = measure(np.pad(np.ones((20, 30), dtype=bool), 2))
+    with pytest.raises(InputError, match="n_harmonics must be"):
+        features_matrix([g], n_points=n_points, n_harmonics=n_harmonics)
+    # the largest valid number of harmonics gives the walk's spectrum
+    assert features_matrix([g], n_points=n_points, n_harmonics=n_points // 2).shape == (
+        1, 5 + n_points // 2,
+    )

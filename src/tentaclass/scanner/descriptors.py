@@ -341,13 +341,28 @@ def _outlines_fourier(batch: np.ndarray, n_points: int, n_harmonics: int) -> np.
 
 
 def _turning_fourier(q: np.ndarray, n_harmonics: int) -> np.ndarray:
-    """``fourier_features(q, n_harmonics, normalize=True)`` of turning angles, unchecked.
+    """``fourier_features(q, n_harmonics, normalize=True)`` of turning angles.
 
-    ``q`` (n, n_points) holds angles in [-pi, pi] and ``n_harmonics`` is
-    valid (the model checks it): the same computation without the checks and
-    the dispatch, which cost more than the product on a small batch.
+    ``q`` (n, n_points) holds angles in [-pi, pi]: with a valid
+    ``n_harmonics`` the same computation without the array checks and the
+    dispatch, which cost more than the product on a small batch; any other
+    ``n_harmonics`` (or fewer than 2 points) goes to :func:`fourier_features`,
+    which refuses it.
+
+    Examples
+    --------
+    >>> q = np.tile([0.0, 0.0, 0.0, np.pi / 2], (2, 4))
+    >>> bool(np.array_equal(_turning_fourier(q, 4), fourier_features(q, 4, normalize=True)))
+    True
+    >>> _turning_fourier(q, 9)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: n_harmonics must be at most floor(n_joints / 2) = 8 for 16...
     """
     n = q.shape[1]
+    valid = isinstance(n_harmonics, int | np.integer) and not isinstance(n_harmonics, bool)
+    if not (valid and n >= 2 and 1 <= n_harmonics <= n // 2):
+        return fourier_features(q, n_harmonics, normalize=True)
     out = np.empty((q.shape[0], n_harmonics))
     kernel = _features_matmul if n <= MATMUL_MAX_JOINTS else _features_fft
     kernel(q, n_harmonics, False, 2 * np.pi, True, out)
