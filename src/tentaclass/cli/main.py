@@ -71,13 +71,18 @@ class _Group(click.Group):
             ) from None
 
 
+#: What click raises to show a command's help when it is given no arguments (click 8.2
+#: and later; earlier versions show the help and exit without raising).
+_NO_ARGS_IS_HELP = getattr(click.exceptions, "NoArgsIsHelpError", ())
+
+
 def _one_line(exc: click.UsageError) -> click.UsageError:
     """A usage error shown on one line, naming the command's help (exit code 2).
 
     Asking for help (a command given no arguments that shows its help then)
     is left as it is.
     """
-    if isinstance(exc, click.exceptions.NoArgsIsHelpError):
+    if isinstance(exc, _NO_ARGS_IS_HELP):
         return exc
     message = " ".join(exc.format_message().split())
     where = f" (see '{exc.ctx.command_path} -h')" if exc.ctx is not None else ""
