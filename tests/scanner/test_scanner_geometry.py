@@ -242,6 +242,5 @@ def test_hull_features_refuse_harmonics_the_walk_cannot_hold(n_harmonics, n_poin
     with pytest.raises(InputError, match="n_harmonics must be"):
         features_matrix([g], n_points=n_points, n_harmonics=n_harmonics)
     # the largest valid number of harmonics gives the walk's spectrum
-    assert features_matrix([g], n_points=n_points, n_harmonics=n_points // 2).shape == (
-        1, 5 + n_points // 2,
-    )
+    k = n_points // 2
+    assert features_matrix([g], n_points=n_points, n_harmonics=k).shape == (1, 5 + k)
