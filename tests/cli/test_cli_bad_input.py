@@ -85,6 +85,17 @@ def test_classify_files_refuses_angles_that_are_not_radians(tmp_path):
     assert not (tmp_path / "o" / "a.labels.csv").exists()
 
 
+def test_classify_refuses_angles_that_are_not_radians_as_classify_files(tmp_path):
+    X = np.tile([0, 0, 0, np.pi / 2], (3, 4))
+    X[1, :8], X[1, 8:] = 1e300, -1e300  # a sum that cancels: the size of each angle counts
+    np.save(tmp_path / "a.npy", X)
+    r = run("classify", "--file", str(tmp_path / "a.npy"))
+    assert r.exit_code == 1
+    assert f"{tmp_path / 'a.npy'}: array 1 turns by too many laps" in one_line(r)
+    r = run("classify", " ".join(["1e300"] * 16))
+    assert "ANGLES: array 0 turns by too many laps" in one_line(r)
+
+
 def test_train_refuses_angles_that_are_not_radians(tmp_path):
     X = np.tile([0, 0, 0, np.pi / 2], (4, 4))
     X[2, 5] = -1e300

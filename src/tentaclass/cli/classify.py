@@ -11,6 +11,7 @@ import numpy as np
 
 from .options import (
     AngleList,
+    check_radians,
     dask_client,
     files_options,
     parse_angle_rows,
@@ -163,6 +164,7 @@ def classify(
     else:
         X = _read_stdin()
     X = as_angle_array(X, "angle array", min_joints=3)
+    check_radians(X, str(file) if file is not None else "ANGLES" if angles is not None else "stdin")
     _check_wraps(X)
     if model_file is None:
         model, info = builtin_model(X.shape[1])
