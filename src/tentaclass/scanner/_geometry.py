@@ -1048,11 +1048,10 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
     dot = np.empty((n, n_points))
     walk = np.empty((n_points, 2))
     bad = False
+    areas, perimeters, radii = hull_measures(rings, ring_starts)
     for i in range(n):
         ring = rings[ring_starts[i] : ring_starts[i + 1]]
-        area = abs(_ring_area_signed(ring))
-        perimeter = _ring_length(ring)
-        radius = bounding_radius(ring[:-1, 0], ring[:-1, 1])
+        area, perimeter, radius = areas[i], perimeters[i], radii[i]
         scalars[i, 0] = area / (long[i] * short[i])
         scalars[i, 1] = short[i] / long[i]
         scalars[i, 2] = 4 * np.pi * area / (perimeter * perimeter)
