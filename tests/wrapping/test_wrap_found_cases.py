@@ -39,7 +39,7 @@ def test_taut_comb_wrap_with_links_longer_than_the_slots():
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
     # clockwise round the L (arms 1 wide) with six 2.85-long links and half a link of
     # stand-off: from the hull's diagonal, in the air over the notch, the chain can
-    # reach no point of the hull; it folds back, and its last link, which ran through
+    # reach no point of the hull; it folds back, and its last link, heading through
     # the L's foot towards the foot's far corner, rests on the foot's near corner
     check_rests("L", 0.25, 6, 5, (3, 1), offset_links=0.5, start=0.03125, direction="cw",
                 mode="taut")  # fmt: skip
@@ -59,16 +59,16 @@ def test_hug_l_wrap_from_the_inner_corner_with_links_nearly_as_long_as_the_objec
 
 def test_taut_comb_wrap_from_a_joint_in_the_air():
     # a link from a joint in the air above the comb (after the chain folded back)
-    # to the hull's bottom edge ran down through the teeth: tested only against
-    # the outline under the hull edges its cursor spanned, as if it joined two
-    # points of the hull. It rests on the comb's top-left corner instead
+    # towards the hull's bottom edge would run down through the teeth, which the
+    # outline under the hull edges its cursor spans does not show: it is tested
+    # against the whole outline, and rests on the comb's top-left corner
     check_rests("comb", 0.25, 6, 5, (0, 3), offset_links=0.5, start=0.203125, mode="taut")
 
 
 @pytest.mark.parametrize("mode", ["taut", "hug"])
 def test_a_vanishing_thickness_is_no_thickness(mode):
-    # a lap offset by 1e-150 is empty in shapely's buffer: the wrap failed with an
-    # IndexError; a thickness below what a buffer resolves counts as none
+    # a lap offset by 1e-150 is empty in shapely's buffer: a thickness below what a
+    # buffer resolves counts as none
     square = OUTLINES["square"]
     thin = wrap(square, 30, 0.9, mode=mode, thickness=1e-150)
     none = wrap(square, 30, 0.9, mode=mode)
