@@ -87,6 +87,15 @@ def builtin_model(n_links: int, *, note: bool = True) -> tuple[Any, dict]:
 
     The bundled model of that chain length, else the one-lap reference model
     (:func:`default_model`), with a note on stderr if ``note``.
+
+    Examples
+    --------
+    >>> model, info = builtin_model(16)  # bundled
+    >>> info["chain"]["n_links"], model.classes_.tolist()
+    (16, ['circle', 'rectangle', 'square', 'triangle'])
+    >>> model, info = builtin_model(24, note=False)  # none bundled: the reference shapes
+    >>> info, model.n_features_in_
+    ({}, 24)
     """
     from ..io._deploy import bundled_links, bundled_predictor
 
