@@ -17,8 +17,9 @@ error. The recognisers never see a physical grasp.
 * mpeg7: a stratified subset of ``--per-class`` silhouettes per class held
   out (seed 0); each scaled so that 64 unit links wrap 1.2-2 laps (drawn),
   rotated, random start and direction, no approach; training:
-  ``chain_wraps`` of the other silhouettes (``--copies`` wraps each, 1.2-2
-  laps, approach 0-2 links), ``groups`` passed to ``fit``.
+  ``chain_wraps`` of the other silhouettes (``--copies`` wraps each,
+  ``--train-laps`` laps, 1.2-2 by default, approach 0-2 links), ``groups``
+  passed to ``fit``.
 
 Prints markdown tables; ``--out FILE`` writes the numbers as JSON, ``--arrays
 DIR`` keeps the generated arrays (and reuses them when present).
@@ -235,7 +236,8 @@ def mpeg7_test_objects(outlines, labels, per_class, seed=0, n_links=64):
     return test_idx, objs, starts, dirs, target
 
 
-def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links=64):
+def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links=64,
+          train_laps=(1.2, 2.0)):
     outlines, labels, _ = shapes.load_mpeg7(folder, max_vertices=1000)
     labels = np.asarray(labels)
     test_idx, train_idx = mpeg7_split(labels, per_class, seed)
@@ -254,7 +256,7 @@ def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links
 
     def make_train():
         d = chain_wraps([outlines[i] for i in train_idx], n_links, n_wraps=copies,
-                        laps=(1.2, 2.0), offset=(0.0, 2.0), mode="hug",
+                        laps=train_laps, offset=(0.0, 2.0), mode="hug",
                         random_state=seed + 100)  # fmt: skip
         return {"X": d.data, "y": labels[train_idx][d.outline], "groups": train_idx[d.outline],
                 "n_failed": np.int64(d.n_failed)}  # fmt: skip
@@ -280,7 +282,8 @@ def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links
     test = _cached(arrays, f"mpeg7-test-{per_class}-{seed}", make_test)
     test.update(_cached(arrays, f"mpeg7-quasi-test-{per_class}-{seed}", make_quasi_test))
     print(f"MPEG-7 test pairs ready in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
-    hug = _cached(arrays, f"mpeg7-train-{copies}-{seed}", make_train)
+    laps_tag = "" if tuple(train_laps) == (1.2, 2.0) else f"-laps{train_laps[0]}-{train_laps[1]}"
+    hug = _cached(arrays, f"mpeg7-train-{copies}-{seed}{laps_tag}", make_train)
     print(f"MPEG-7 hug training wraps ready in {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     trains = {"hug": hug}
     if quasi_copies:
@@ -345,6 +348,8 @@ def main(argv=None):
                     help="thesis training wraps of each kind (hug, quasi-static)")  # fmt: skip
     ap.add_argument("--per-class", type=int, default=2, help="MPEG-7 test silhouettes per class")
     ap.add_argument("--copies", type=int, default=2, help="MPEG-7 training wraps per silhouette")
+    ap.add_argument("--train-laps", type=float, nargs=2, default=(1.2, 2.0),
+                    help="laps of the MPEG-7 hug training wraps")  # fmt: skip
     ap.add_argument("--quasi-copies", type=int, default=1,
                     help="MPEG-7 quasi-static training wraps per silhouette (0: none)")  # fmt: skip
     ap.add_argument("--jobs", type=int, default=2)
@@ -362,7 +367,8 @@ def main(argv=None):
                 print(f"MPEG-7 not found at {args.mpeg7_folder}: skipped", file=sys.stderr)
             else:
                 out["mpeg7"] = mpeg7(args.mpeg7_folder, args.per_class, args.copies,
-                                     args.quasi_copies, args.jobs, args.arrays)  # fmt: skip
+                                     args.quasi_copies, args.jobs, args.arrays,
+                                     train_laps=tuple(args.train_laps))  # fmt: skip
                 report("MPEG-7, 64 links", out["mpeg7"])
     if args.out:
         Path(args.out).write_text(json.dumps(out, indent=1))

@@ -8,6 +8,7 @@ from click.testing import CliRunner
 
 pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
 
+from tentaclass import grasp_state
 from tentaclass.cli.main import cli
 from tentaclass.cli.options import parse_angle_list
 
@@ -17,18 +18,21 @@ def run(args):
 
 
 def test_square_prints_angles_that_classify_reads_and_the_state(tmp_path):
+    from PIL import Image
+
     gif, png = tmp_path / "grasp.gif", tmp_path / "grasp.png"
-    r = run(["--shape", "square", "--links", "16", "--plot", str(png)])
+    r = run(["--shape", "square", "--links", "16", "--gif", str(gif), "--plot", str(png)])
     assert r.exit_code == 0, r.output
     q = parse_angle_list(r.stdout)
     assert q.shape == (16,) and abs(q.sum() / (2 * np.pi) - 1) < 0.15  # about one lap
-    assert r.stderr.startswith("grasp: ") and png.stat().st_size > 0
+    state = grasp_state(q)
+    assert r.stderr.startswith(f"grasp: {state.state.item()}, {float(state.laps):.2f} laps")
+    with Image.open(png) as im:  # the final pose
+        assert im.format == "PNG" and min(im.size) > 100
+    with Image.open(gif) as im:  # the animation: the chain closing, frame after frame
+        assert im.format == "GIF" and im.n_frames > 10
     c = CliRunner().invoke(cli, ["classify", r.stdout.strip()], catch_exceptions=False)
     assert c.exit_code == 0
-    # the animation: a short chain, few frames to draw
-    r = run(["--shape", "square", "--links", "6", "--gif", str(gif)])
-    assert r.exit_code == 0, r.output
-    assert gif.read_bytes()[:6] in (b"GIF87a", b"GIF89a")
 
 
 def test_json_and_mask(tmp_path):

@@ -43,6 +43,9 @@ def test_dynamics_agree_with_mujoco(n, gravity, rng):
         bias = np.zeros(n)
         mujoco.mj_rne(m, d, 0, bias)  # C(q, qd) qd + g(q)
         np.testing.assert_allclose(bias, ref.bias_torques(q, qd), rtol=0, atol=1e-9)
+        np.testing.assert_allclose(
+            bias, ref.coriolis(q, qd) + ref.gravity_torques(q), rtol=0, atol=1e-9
+        )
         d.qvel[:] = 0.0
         mujoco.mj_forward(m, d)
         mujoco.mj_rne(m, d, 0, bias)

@@ -10,6 +10,7 @@ import numpy as np
 import shapely
 
 from .._typing import FloatArray
+from .._validation import check_positive_float, check_positive_int
 from ..manipulator import PlanarChain
 from ._model import _mujoco, build_model
 from ._sweep import LEVER, SLACK, free_turn, room_about
@@ -88,6 +89,21 @@ class CurlController:
         Seconds allowed for coming to rest during the squeeze.
     control_steps : int, default=5
         Simulation steps between two looks of the controller.
+
+    Raises
+    ------
+    InputError
+        A parameter that is not a finite number > 0 (``torque``, ``damping``
+        and ``rest_speed`` may be 0), or ``control_steps`` below 1.
+
+    Examples
+    --------
+    >>> CurlController(speed=10.0).speed
+    10.0
+    >>> CurlController(speed=0.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: speed must be a finite number > 0, got 0.0
     """
 
     speed: float = 5.0
@@ -99,6 +115,15 @@ class CurlController:
     rest_time: float = 0.2
     settle_time: float = 10.0
     control_steps: int = 5
+
+    def __post_init__(self) -> None:
+        # every field bounds a loop of the simulation: a zero speed, a NaN or no
+        # steps between looks would never reach a stop, a rest or a time limit
+        for name in ("speed", "stall_lag", "max_turn", "rest_time", "settle_time"):
+            check_positive_float(getattr(self, name), name)
+        for name in ("torque", "damping", "rest_speed"):
+            check_positive_float(getattr(self, name), name, allow_zero=True)
+        check_positive_int(self.control_steps, "control_steps")
 
 
 class _Sim:

@@ -250,7 +250,12 @@ def build_model(chain: PlanarChain, outline: ArrayLike | None = None, **kwargs: 
     try:
         model = mujoco.MjModel.from_xml_string(xml)
     except ValueError as exc:
-        raise InputError(f"MuJoCo cannot build this chain or object: {exc}") from None
+        msg = str(exc).strip().splitlines()[0].removeprefix("Error: ").strip()
+        if "mesh volume is too small" in msg:
+            msg = ("a convex piece of the object has too little volume for a MuJoCo mesh "
+                   "(the object is too small against the links: scale it up or use shorter "
+                   "links)")  # fmt: skip
+        raise InputError(f"MuJoCo cannot build this chain or object: {msg}") from None
     n = chain.n_links
     names = [model.geom(i).name for i in range(model.ngeom)]
     link_geoms = np.array([names.index(f"link{i}") if f"link{i}" in names else -1
