@@ -157,8 +157,10 @@ def test_blend_matches_or_beats_each_member(sixteen_links):
     chosen = model.weights_.copy()
     alone = {}
     members = [("lap", [1.0, 0, 0, 0]), ("exact", [1e-9, 1, 0, 0]), ("spectrum", [1e-9, 0, 1, 0])]
-    if model.weights_[3] > 0:  # the elastic member's training outlines are kept only if used
-        members.append(("elastic", [1e-9, 0, 0, 1]))
+    if model.weights_[3] > 0:  # the elastic members' training outlines are kept only if used
+        members.append(("elastic", [1e-9, 0, 0, 1, 0]))
+    if model.weights_[4] > 0:
+        members.append(("elastic last lap", [1e-9, 0, 0, 0, 1]))
     for name, w in members:
         model.weights_ = np.array(w)
         alone[name] = model.score(X, y)

@@ -67,15 +67,22 @@ def default_models(wraps16, default_recognisers):
     assert rejecting.spectrum_ is not None
     # every member in the blend, whatever weights the calibration chose
     blended = copy.deepcopy(default_recognisers["default"])
-    # (the elastic member's descriptors are kept only where its weight was not 0)
-    blended.weights_ = np.array([1.0, 0.5, 1.0, 1.0 if len(blended.elastic_heights_) else 0.0])
+    # (the elastic members' descriptors are kept only where their weight was not 0)
+    elastic = [1.0 if len(h) else 0.0 for h in (blended.elastic_heights_, blended.last_heights_)]
+    blended.weights_ = np.array([1.0, 0.5, 1.0, *elastic])
     two = np.isin(y, ["circle", "square"])
     binary = TentacleClassifier().fit(X[two], y[two])
-    binary.weights_ = np.array([1.0, 0.0, 0.5, 0.0])
-    return {"thesis": small, "reject": rejecting, "blended": blended, "binary": binary}
+    binary.weights_ = np.array([1.0, 0.0, 0.5, 0.0, 0.0])
+    # a model saved before the elastic member of the last lap: four members
+    four = copy.deepcopy(default_recognisers["default"])
+    for name in ("last_scale_", "last_heights_", "last_complexity_"):
+        delattr(four, name)
+    four.weights_ = four.weights_[:4]
+    return {"thesis": small, "reject": rejecting, "blended": blended, "binary": binary,
+            "four": four}  # fmt: skip
 
 
-@pytest.mark.parametrize("name", ["thesis", "reject", "blended", "binary"])
+@pytest.mark.parametrize("name", ["thesis", "reject", "blended", "binary", "four"])
 def test_saved_default_models_predict_alike(tmp_path, default_models, name):
     model = default_models[name]
     path = save_model(model, tmp_path / "m.tcm")

@@ -71,7 +71,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     with noisy encoders. From the angles alone the classifier finds the
     approach and the length of one lap (:func:`tentaclass.features.split_laps`)
     and averages every lap it sees into one (joint noise falls with the number
-    of laps). Four members score every class:
+    of laps). Five members score every class:
 
     - the averaged lap against every training lap by the Procrustes distance
       of the rebuilt outlines, minimised over start point, rotation and mirror
@@ -92,7 +92,11 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
       outlines of the training wraps nearest by the two matchers above (30 by
       the lap matcher, 15 by the exact one): legs, necks and bridged slots
       that bend from one object of a class to the next still line up. The
-      strongest member on MPEG-7 wraps.
+      strongest member on MPEG-7 wraps;
+    - the last lap rebuilt from the joint positions, matched elastically
+      against the training wraps' last laps over the same candidates. The
+      averaged lap is resampled from the headings of every lap, which rounds
+      corners; the last lap keeps the joints where the chain laid them.
 
     The scores (distances to each class's nearest training wrap, scaled, and
     the network's negative log probabilities) are summed with weights chosen
@@ -142,10 +146,11 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     spectrum_ : Pipeline or None
         The spectrum network (``None`` with fewer than four training wraps in
         some class).
-    weights_ : ndarray of shape (4,)
-        Weights of the four members in the blend: lap matcher (1), exact
-        matcher, spectrum network, elastic matcher.
-    lap_scale_, exact_scale_, elastic_scale_ : float
+    weights_ : ndarray of shape (5,)
+        Weights of the five members in the blend: lap matcher (1), exact
+        matcher, spectrum network, elastic matcher of the averaged lap and
+        of the last lap.
+    lap_scale_, exact_scale_, elastic_scale_, last_scale_ : float
         Median held-out nearest distance of each matcher: its distances are
         divided by it before blending.
     elastic_heights_ : ndarray of shape (n_samples, 64, 20), float32
@@ -154,6 +159,9 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     elastic_complexity_ : ndarray of shape (n_samples,)
         Their complexities (the elastic distance is divided by the sum of the
         two outlines' complexities).
+    last_heights_, last_complexity_ : ndarray
+        The same for the training wraps' last laps (no rows when the last-lap
+        elastic member's weight is 0).
     owner_ : ndarray of shape (n_rows,)
         Training wrap of each row of the lap matcher.
     headings_ : ndarray of shape (n_arcs, n_points)
@@ -255,11 +263,11 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
             rows, y_idx[owner]
         )
         # member 2: the last lap rebuilt from the joint positions, every frequency
-        self.exact_ = ShiftNNClassifier(signal="shape").fit(last_lap(X3, self.n_points)[0], y_idx)
-        # member 4: the averaged lap rebuilt as an outline, matched elastically
-        outlines = _lap_outlines(split.lap)
-        self.elastic_heights_ = _elastic.height_descriptors(outlines, _elastic.DENSE)[0]
-        self.elastic_complexity_ = _elastic.complexity(self.elastic_heights_)
+        last = last_lap(X3, self.n_points)[0]
+        self.exact_ = ShiftNNClassifier(signal="shape").fit(last, y_idx)
+        # members 4 and 5: the averaged and the last lap rebuilt as outlines, matched elastically
+        self.elastic_heights_, self.elastic_complexity_ = _elastic_descriptors(split.lap)
+        self.last_heights_, self.last_complexity_ = _elastic_descriptors(last)
         # member 3: spectra of the last lap and of the whole array, a small network
         counts = np.bincount(y_idx, minlength=k)
         use_spectrum = k > 1 and counts.min() >= _SPECTRUM_MIN_PER_CLASS
@@ -270,24 +278,30 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         d_lap = np.sqrt(self.matcher_.shift_distances(split.lap[q]))
         d_lap[groups[q][:, None] == groups[owner][None, :]] = np.inf
         s_lap = _class_minima(d_lap, self.matcher_.labels_, k)
-        d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X3[q], self.n_points)[0]))
+        d_exact = np.sqrt(self.exact_.shift_distances(last[q]))
         d_exact[groups[q][:, None] == groups[None, :]] = np.inf
         s_exact = _class_minima(d_exact, y_idx, k)
         self.owner_ = owner
-        s_el = self._elastic_minima(split.lap[q], d_lap, d_exact)
+        s_el, s_last = self._elastic_minima(split.lap[q], last[q], d_lap, d_exact)
+        assert s_el is not None and s_last is not None
         s_spec = None
         if use_spectrum:
             s_spec = _held_out_spectrum(features, y_idx, groups, q, k)
         self.lap_scale_ = _median_nearest(s_lap)
         self.exact_scale_ = _median_nearest(s_exact)
         self.elastic_scale_ = _median_nearest(s_el)
+        self.last_scale_ = _median_nearest(s_last)
         members = [s_lap / self.lap_scale_, s_exact / self.exact_scale_, s_spec,
-                   s_el / self.elastic_scale_]  # fmt: skip
+                   s_el / self.elastic_scale_, s_last / self.last_scale_]  # fmt: skip
         self.weights_ = _choose_weights(members, y_idx[q])
         blended = _blend(members, self.weights_)
-        if self.weights_[3] == 0 and rate is None:  # not used: the model file need not hold it
+        # members not used: the model file need not hold their outlines
+        if self.weights_[3] == 0 and rate is None:
             self.elastic_heights_ = self.elastic_heights_[:0]
             self.elastic_complexity_ = self.elastic_complexity_[:0]
+        if self.weights_[4] == 0:
+            self.last_heights_ = self.last_heights_[:0]
+            self.last_complexity_ = self.last_complexity_[:0]
         self.scale_, self.temperature_, _, _ = _calibrate(blended, y_idx[q], rate)
         self.class_spread_ = np.empty(0)
         self.reject_coef_, self.reject_threshold_ = np.zeros(4), np.inf
@@ -389,6 +403,12 @@ def _lap_views(
     return np.concatenate(views), np.concatenate(owner)
 
 
+def _elastic_descriptors(laps: FloatArray) -> tuple[np.ndarray, np.ndarray]:
+    """Height descriptors (float32) and complexities of laps rebuilt as outlines."""
+    heights = _elastic.height_descriptors(_lap_outlines(laps), _elastic.DENSE)[0]
+    return heights, _elastic.complexity(heights)
+
+
 def _spectrum_model() -> Pipeline:
     return make_pipeline(StandardScaler(), MLPClassifier((64,), max_iter=400, random_state=0))
 
@@ -421,16 +441,17 @@ def _choose_weights(members: list[FloatArray | None], y: np.ndarray) -> FloatArr
     Errors first: a member with sharp but often wrong probabilities can lower
     the log loss of a blend while costing accuracy. The lap matcher weighs 1.
     """
-    grids = [(1.0,), _WEIGHTS, _WEIGHTS if members[2] is not None else (0.0,), _ELASTIC_WEIGHTS]
-    tried = []
-    for w in itertools.product(*grids):
-        blended = _blend(members, np.array(w))
-        tried.append((int(np.sum(np.argmin(blended, axis=1) != y)), w, blended))
+    grids = [(1.0,), _WEIGHTS, _WEIGHTS if members[2] is not None else (0.0,), _ELASTIC_WEIGHTS,
+             _ELASTIC_WEIGHTS]  # fmt: skip
+    tried = [
+        (int(np.sum(np.argmin(_blend(members, np.array(w)), axis=1) != y)), w)
+        for w in itertools.product(*grids)
+    ]
     fewest = min(t[0] for t in tried)
     best, chosen = np.inf, tried[0][1]
-    for errors, w, blended in tried:
+    for errors, w in tried:
         if errors == fewest:
-            loss = _log_loss(blended, y)
+            loss = _log_loss(_blend(members, np.array(w)), y)
             if loss < best:
                 best, chosen = loss, w
     return np.array(chosen, dtype=float)

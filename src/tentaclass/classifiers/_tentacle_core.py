@@ -52,6 +52,9 @@ class TentacleCore:
     elastic_scale_: float
     elastic_heights_: np.ndarray
     elastic_complexity_: np.ndarray
+    last_scale_: float
+    last_heights_: np.ndarray
+    last_complexity_: np.ndarray
     owner_: np.ndarray
     headings_: np.ndarray
     arc_labels_: np.ndarray
@@ -117,8 +120,9 @@ class TentacleCore:
         return out, closed, laps, novelty
 
     def _weights(self) -> FloatArray:
+        """The five member weights (models saved before the elastic members weigh them 0)."""
         w = self.weights_
-        return np.append(w, 0.0) if len(w) == 3 else w  # saved before the elastic member
+        return np.append(w, np.zeros(5 - len(w)))
 
     def _rejects(self) -> bool:
         """Whether full wraps are ever answered "unknown" (the rule needs the elastic member)."""
@@ -142,45 +146,75 @@ class TentacleCore:
         """Scaled class scores of each member for wraps with a full lap.
 
         A member of weight 0 is left out (``None``), except the elastic one
-        where the rejection rule needs it.
+        of the averaged lap where the rejection rule needs it.
         """
         k = len(self.classes_)
         d_lap = np.sqrt(self.matcher_.shift_distances(laps))
         s_lap = _class_minima(d_lap, self.matcher_.labels_, k) / self.lap_scale_
-        s_exact = s_spec = s_el = None
+        s_exact = s_spec = s_el = s_last = None
         w = self._weights()
         elastic = w[3] > 0 or (hasattr(self, "reject_coef_") and self._rejects())
-        if w[1] > 0 or elastic:
-            d_exact = np.sqrt(self.exact_.shift_distances(last_lap(X, self.n_points)[0]))
+        if w[1] > 0 or elastic or w[4] > 0:
+            last = last_lap(X, self.n_points)[0]
+            d_exact = np.sqrt(self.exact_.shift_distances(last))
             s_exact = _class_minima(d_exact, self.exact_.labels_, k) / self.exact_scale_
         if w[2] > 0:
             s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
-        if elastic:
-            s_el = self._elastic_minima(laps, d_lap, d_exact) / self.elastic_scale_
-        return [s_lap, s_exact, s_spec, s_el]
+        if elastic or w[4] > 0:
+            s_el, s_last = self._elastic_minima(
+                laps if elastic else None, last if w[4] > 0 else None, d_lap, d_exact
+            )
+            s_el = None if s_el is None else s_el / self.elastic_scale_
+            s_last = None if s_last is None else s_last / self.last_scale_
+        return [s_lap, s_exact, s_spec, s_el, s_last]
 
     def _elastic_minima(
-        self, laps: FloatArray, d_lap: FloatArray, d_exact: FloatArray
-    ) -> FloatArray:
-        """Elastic distance of each lap outline to each class, over candidate training wraps.
+        self,
+        laps: FloatArray | None,
+        last: FloatArray | None,
+        d_lap: FloatArray,
+        d_exact: FloatArray,
+    ) -> tuple[FloatArray | None, FloatArray | None]:
+        """Elastic distances of lap outlines to each class, over candidate training wraps.
 
-        The candidates are the training wraps nearest by the lap matcher
+        The averaged laps (``laps``) are matched against the training wraps'
+        averaged laps, the last laps rebuilt from the joint positions
+        (``last``) against theirs (either may be ``None``: not matched). The
+        candidates are the training wraps nearest by the lap matcher
         (``d_lap``, over its rows) and by the exact matcher (``d_exact``);
         a class without a candidate scores the query's largest candidate
         distance (it was far by the other matchers).
         """
-        from . import _elastic  # numba: imported only where the elastic member is used
+        ia = _candidates(d_lap, self.owner_, d_exact)
+        ib = np.repeat(np.arange(len(d_lap)), [len(c) for c in ia])
+        ia_all = np.concatenate(ia) if ia else np.empty(0, np.int64)
+        s_el = s_last = None
+        if laps is not None:
+            s_el = self._elastic_class_minima(
+                laps, self.elastic_heights_, self.elastic_complexity_, ia_all, ib
+            )
+        if last is not None:
+            s_last = self._elastic_class_minima(
+                last, self.last_heights_, self.last_complexity_, ia_all, ib
+            )
+        return s_el, s_last
+
+    def _elastic_class_minima(
+        self,
+        rows: FloatArray,
+        heights: np.ndarray,
+        complexity: np.ndarray,
+        ia: np.ndarray,
+        ib: np.ndarray,
+    ) -> FloatArray:
+        """Per query row, the smallest elastic distance to each class over pairs ``(ia, ib)``."""
+        from . import _elastic  # numba: imported only where an elastic member is used
 
         labels, k = self.exact_.labels_, len(self.classes_)
-        ia = _candidates(d_lap, self.owner_, d_exact)
-        ib = np.repeat(np.arange(len(laps)), [len(c) for c in ia])
-        ia_all = np.concatenate(ia) if ia else np.empty(0, np.int64)
-        F, Fm, c = _elastic.query_descriptors(_lap_outlines(laps))
-        d = _elastic.pair_distances(
-            self.elastic_heights_, self.elastic_complexity_, F, Fm, c, ia_all, ib
-        )
-        out = np.full((len(laps), k), np.inf)
-        np.minimum.at(out, (ib, labels[ia_all]), d)
+        F, Fm, c = _elastic.query_descriptors(_lap_outlines(rows))
+        d = _elastic.pair_distances(heights, complexity, F, Fm, c, ia, ib)
+        out = np.full((len(rows), k), np.inf)
+        np.minimum.at(out, (ib, labels[ia]), d)
         finite = np.isfinite(out)
         fill = np.where(finite, out, -np.inf).max(axis=1, initial=-np.inf)
         fill = np.where(np.isfinite(fill), fill, 1.0)
@@ -297,8 +331,8 @@ def _blend(members: list[FloatArray | None], weights: FloatArray) -> FloatArray:
     """Weighted sum of the members' class scores (members of weight 0 left out).
 
     ``members``: the lap matcher's scores (always there), then the exact
-    matcher's, the spectrum network's and the elastic matcher's (each may be
-    ``None`` where its weight is 0).
+    matcher's, the spectrum network's, the elastic matcher's of the averaged
+    lap and of the last lap (each may be ``None`` where its weight is 0).
     """
     out = weights[0] * members[0]
     for w, s in zip(weights[1:], members[1:], strict=True):

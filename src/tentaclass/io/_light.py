@@ -195,9 +195,12 @@ class _Tentacle(TentacleCore, _Light):
         | {"partial_reject_distance_", "partial_reject_margin_"}
         | {"elastic_scale_", "elastic_heights_", "elastic_complexity_", "owner_"}
         | {"class_spread_", "reject_coef_", "reject_threshold_"}
+        | {"last_scale_", "last_heights_", "last_complexity_"}
     )
+    #: What models saved before the elastic member of the last lap hold (four members).
+    four = state - {"last_scale_", "last_heights_", "last_complexity_"}
     #: What models saved before the elastic rejection rule hold instead of its three.
-    earlier = (state - {"class_spread_", "reject_coef_", "reject_threshold_"}) | {
+    earlier = (four - {"class_spread_", "reject_coef_", "reject_threshold_"}) | {
         "reject_distance_",
         "reject_margin_",
     }
@@ -206,6 +209,8 @@ class _Tentacle(TentacleCore, _Light):
     def build(cls, params: dict, state: dict) -> _Light:
         if cls is _Tentacle and set(state) == cls.earlier:
             return _EarlierTentacle.build(params, state)
+        if cls is _Tentacle and set(state) == cls.four:
+            return _FourMemberTentacle.build(params, state)
         return super().build(params, state)
 
     def _check(self) -> None:
@@ -213,7 +218,12 @@ class _Tentacle(TentacleCore, _Light):
         _require(isinstance(self.n_features_in_, int) and isinstance(self.classes_, np.ndarray))
         _require(isinstance(self.matcher_, _ShiftNN) and isinstance(self.exact_, _ShiftNN))
         _require(self.spectrum_ is None or isinstance(self.spectrum_, _Pipeline))
-        _require(_is_array(self.weights_, "f", 1) and self.weights_.shape == (4,))
+        members = 5 if hasattr(self, "last_heights_") else 4
+        _require(_is_array(self.weights_, "f", 1) and self.weights_.shape == (members,))
+        if members == 5:
+            _require(_is_array(self.last_heights_, "f", 3) and isinstance(self.last_scale_, float))
+            _require(_is_array(self.last_complexity_, "f", 1))
+            _require(self.weights_[4] == 0 or len(self.last_heights_) == len(self.exact_.labels_))
         _require(self.weights_[2] == 0 or self.spectrum_ is not None)
         _require(_is_array(self.elastic_heights_, "f", 3) and _is_array(self.owner_, "iu", 1))
         _require(_is_array(self.elastic_complexity_, "f", 1))
@@ -234,6 +244,12 @@ class _Tentacle(TentacleCore, _Light):
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         return self._proba_of(*self._scores(X)[:2])
+
+
+class _FourMemberTentacle(_Tentacle):
+    """A model saved before the elastic member of the last lap."""
+
+    state = _Tentacle.four
 
 
 class _EarlierTentacle(_Tentacle):
