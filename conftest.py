@@ -32,6 +32,19 @@ def pytest_ignore_collect(collection_path, config):
     return None
 
 
+@pytest.fixture(autouse=True)
+def _private_cache(tmp_path_factory, monkeypatch):
+    """Caches go to a temporary folder, never the user's ~/.cache or ~/aeon_data.
+
+    Defined here so that it holds for the doctests in src/ as well as for tests/.
+
+    Under pytest-xdist each worker has a temporary folder (and so caches) of its own.
+    """
+    base = tmp_path_factory.getbasetemp()
+    monkeypatch.setenv("XDG_CACHE_HOME", str(base / "cache"))
+    monkeypatch.setenv("AEON_DATA", str(base / "aeon_data"))
+
+
 #: where the fixtures every test shares are defined (cheap: a folder's path, a thread limit)
 _SHARED_FIXTURES = frozenset({"", "tests"})
 

@@ -33,17 +33,6 @@ SHARED_DATA = Path(
 MPEG7 = SHARED_DATA / "mpeg7-part-b"
 
 
-@pytest.fixture(autouse=True)
-def _private_cache(tmp_path_factory, monkeypatch):
-    """Caches go to a temporary folder, never the user's ~/.cache or ~/aeon_data.
-
-    Under pytest-xdist each worker has a temporary folder (and so caches) of its own.
-    """
-    base = tmp_path_factory.getbasetemp()
-    monkeypatch.setenv("XDG_CACHE_HOME", str(base / "cache"))
-    monkeypatch.setenv("AEON_DATA", str(base / "aeon_data"))
-
-
 @pytest.fixture(autouse=True, scope="session")
 def _one_openmp_thread():
     """scikit-learn's OpenMP code (gradient-boosted trees, k-means) runs on one thread.
