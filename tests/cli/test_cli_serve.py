@@ -1,7 +1,9 @@
 import re
+import socket
 import subprocess
 import sys
 
+import click
 import pytest
 from click.testing import CliRunner
 
@@ -19,6 +21,52 @@ def test_serve_bad_port_is_one_line():
     result = CliRunner().invoke(cli, ["serve", "--port", "70000"])
     assert result.exit_code == 2
     assert "Traceback" not in result.output
+
+
+def one_line_error(result):
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert result.exit_code == 1, result.output
+    assert len(lines) == 1 and lines[0].startswith("Error: "), result.output
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    "host, message",
+    [
+        ("999.1.1.1", "--host '999.1.1.1' is not an IPv4 address"),
+        ("300", "--host '300' is not an IPv4 address"),  # not 0.0.1.44
+        ("", "--host is empty"),
+        ("[]", "--host is empty"),
+        ("no.such.host.invalid", "--host 'no.such.host.invalid': no such host"),
+    ],
+)
+def test_serve_bad_host_is_one_line(host, message):
+    result = CliRunner().invoke(cli, ["serve", "--host", host, "--port", "0"])
+    assert message in one_line_error(result)
+
+
+def test_serve_on_a_port_in_use_is_one_line():
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        result = CliRunner().invoke(cli, ["serve", "--port", str(port)])
+    line = one_line_error(result)
+    assert f"cannot listen on 127.0.0.1:{port}" in line
+    assert "choose another --port, or 0 for a free one" in line
+
+
+def test_listening_socket_takes_ipv6_in_brackets():
+    from tentaclass.cli.serve import listening_socket
+
+    if not socket.has_ipv6:
+        pytest.skip("no IPv6")
+    try:
+        sock = listening_socket("[::1]", 0)
+    except click.ClickException as exc:  # an IPv6 stack without a loopback address
+        pytest.skip(str(exc))
+    with sock:
+        assert sock.family == socket.AF_INET6 and sock.getsockname()[0] == "::1"
 
 
 def test_serve_prints_its_address_and_answers(tmp_path):
@@ -47,7 +95,7 @@ def test_serve_prints_its_address_and_answers(tmp_path):
 
 def test_serve_without_the_web_extra_says_how_to_get_it(monkeypatch):
     monkeypatch.setitem(sys.modules, "uvicorn", None)  # import uvicorn -> ImportError
-    result = CliRunner().invoke(cli, ["serve"])
+    result = CliRunner().invoke(cli, ["serve", "--port", "0"])
     assert result.exit_code == 1
     assert result.output.strip().endswith("pip install 'tentaclass[web]'")
     assert "Traceback" not in result.output

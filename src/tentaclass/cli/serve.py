@@ -2,10 +2,57 @@
 
 from __future__ import annotations
 
+import errno
+import ipaddress
+import os
+import re
 import socket
 from pathlib import Path
 
 import click
+
+#: Hosts made of digits and dots only: IPv4 addresses, which the resolver would
+#: otherwise also read in the short forms "300" (0.0.1.44) or "10.1" (10.0.0.1).
+_DOTTED = re.compile(r"^[\d.]+$")
+
+
+def listening_socket(host: str, port: int) -> socket.socket:
+    """A TCP socket bound to ``host:port`` for the server, or a one-line ClickException.
+
+    ``host`` is an IPv4 or IPv6 address (brackets allowed) or a name;
+    port 0 picks a free port.
+    """
+    name = host.strip()
+    if name.startswith("[") and name.endswith("]"):
+        name = name[1:-1]
+    if not name:
+        raise click.ClickException("--host is empty: give an address such as 127.0.0.1 or 0.0.0.0")
+    if _DOTTED.match(name):
+        try:
+            ipaddress.IPv4Address(name)
+        except ValueError:
+            raise click.ClickException(
+                f"--host {host!r} is not an IPv4 address (four numbers 0-255 such as 127.0.0.1)"
+            ) from None
+    family = socket.AF_INET6 if ":" in name else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    try:
+        if os.name != "nt":  # on Windows it would let two servers share the port
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind((name, port))
+    except socket.gaierror as exc:
+        sock.close()
+        raise click.ClickException(f"--host {host!r}: no such host ({exc.strerror})") from None
+    except OSError as exc:
+        sock.close()
+        why = exc.strerror or str(exc)
+        if exc.errno == errno.EADDRINUSE:
+            why += " (another server listens there: choose another --port, or 0 for a free one)"
+        elif exc.errno == errno.EADDRNOTAVAIL:
+            why += " (not an address of this computer)"
+        raise click.ClickException(f"cannot listen on {name}:{port}: {why}") from None
+    sock.set_inheritable(True)
+    return sock
 
 
 @click.command()
@@ -20,29 +67,26 @@ def serve(host: str, port: int, data_dir: Path | None) -> None:
     Open the printed address in a browser; the JSON API is documented at /docs.
     Needs the web extra: pip install 'tentaclass[web]'.
     """
-    from .._lazy import import_extra
+    sock = listening_socket(host, port)  # first: a bad address fails at once
+    name, bound = sock.getsockname()[:2]
+    shown = f"[{name}]" if ":" in name else name
+    with sock:
+        from .._lazy import import_extra
 
-    needs = "the web page needs the 'web' extra"
-    for module in ("uvicorn", "tentaclass.web._app"):
-        import_extra(module, "web", needs, error=click.ClickException)
-    import uvicorn
+        needs = "the web page needs the 'web' extra"
+        for module in ("uvicorn", "tentaclass.web._app"):
+            import_extra(module, "web", needs, error=click.ClickException)
+        import uvicorn
 
-    from ..web import create_app
+        from ..web import create_app
 
-    shown = f"[{host}]" if ":" in host else host
+        class AnnouncingServer(uvicorn.Server):
+            """A uvicorn server that prints the address it listens on once it does."""
 
-    class AnnouncingServer(uvicorn.Server):
-        """A uvicorn server that prints the address it listens on once it does."""
+            async def startup(self, sockets: list[socket.socket] | None = None) -> None:
+                await super().startup(sockets=sockets)
+                if self.started:
+                    click.echo(f"tentaclass serving on http://{shown}:{bound}/ (API docs at /docs)")
 
-        async def startup(self, sockets: list[socket.socket] | None = None) -> None:
-            await super().startup(sockets=sockets)
-            if self.started:
-                bound = port
-                for s in self.servers:
-                    for sock in s.sockets:
-                        bound = sock.getsockname()[1]
-                click.echo(f"tentaclass serving on http://{shown}:{bound}/ (API docs at /docs)")
-
-    app = create_app(data_dir)
-    config = uvicorn.Config(app, host=host, port=port, log_level="warning")
-    AnnouncingServer(config).run()
+        config = uvicorn.Config(create_app(data_dir), host=name, port=bound, log_level="warning")
+        AnnouncingServer(config).run(sockets=[sock])
