@@ -55,6 +55,8 @@ def test_json_and_mask(tmp_path):
         (["--shape", "polygon", "--vertices", "0,0 1,1 1,0 0,1"], "intersects itself"),
         (["--shape", "square", "--mask", "nope.png"], "nope.png"),
         (["--links", "0"], "links"),
+        (["--shape", "circle", "--size", "1", "--links", "8", "--link-length", "5"],
+         "link_length 5 is longer than the object's diameter 2: "),
     ],
 )
 def test_errors_are_one_line(args, message):

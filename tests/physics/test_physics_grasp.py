@@ -16,7 +16,14 @@ from tentaclass import (
 )
 from tentaclass.datasets import synthetic_tentacle
 from tentaclass.errors import InputError
-from tentaclass.physics import CurlController, PhysicalGrasp, grasp, grasp_many
+from tentaclass.physics import (
+    CurlController,
+    PhysicalGrasp,
+    build_model,
+    grasp,
+    grasp_many,
+    quasi_static_grasp,
+)
 from tentaclass.shapes import circle, polygon, rectangle, square, triangle
 
 #: A C whose upper arm is shorter than its lower one: the opening between the
@@ -230,8 +237,9 @@ def test_controller_that_could_never_finish_is_refused(kwargs, match):
         ({"chain": [1.0] * 4}, "PlanarChain"),
         ({"controller": "curl"}, "CurlController"),
         ({"outline": C_SHAPE, "start": 0.45, "offset": 5.0}, "passes through"),
-        # a valid outline MuJoCo cannot mesh: 4e-9 links across, no volume to collide
-        ({"outline": square(2e-9)}, "MuJoCo cannot build this chain or object: a convex piece"),
+        # links far longer than the object: refused before MuJoCo is asked to mesh it
+        ({"outline": square(2e-9)}, r"link_length 0.5 is longer than the object's diameter 2.8"),
+        ({"chain": PlanarChain([0.5] * 7 + [2.9])}, r"link_length 2.9 .* \(use link_length <= 2.8"),
     ],
 )
 def test_bad_input(kwargs, match):
@@ -239,6 +247,23 @@ def test_bad_input(kwargs, match):
     outline, chain = args.pop("outline"), args.pop("chain")
     with pytest.raises(InputError, match=match):
         grasp(outline, chain, **args)
+
+
+@pytest.mark.parametrize("method", [grasp, quasi_static_grasp])
+def test_links_longer_than_the_object_are_refused_as_wrap_refuses_them(method):
+    for length in (2.0, 2.8):  # up to the diagonal 2.83, links fit
+        method(square(2.0), PlanarChain([length] * 3))
+    with pytest.raises(InputError) as physical:
+        method(square(2.0), PlanarChain([2.9] * 3))
+    with pytest.raises(InputError) as geometric:
+        wrap(square(2.0), 3, 2.9)
+    assert str(physical.value) == str(geometric.value)
+    assert "use link_length <= 2.82843" in str(physical.value)
+
+
+def test_an_object_too_small_to_mesh_is_named():
+    with pytest.raises(InputError, match="MuJoCo cannot build this chain or object: mesh"):
+        build_model(PlanarChain([0.5] * 8), square(2e-9))
 
 
 def test_controller_speed_does_not_change_a_square_much():

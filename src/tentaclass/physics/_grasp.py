@@ -14,6 +14,7 @@ from ..errors import InputError
 from ..manipulator import PlanarChain
 from ..shapes import as_outline
 from ..wrapping import Wrap
+from ..wrapping._surface import check_links_fit, outline_diameter
 from ._controller import CurlController, _Sim
 from ._decompose import convex_pieces
 
@@ -188,8 +189,9 @@ def grasp(
     Raises
     ------
     InputError
-        Bad outline (see :func:`tentaclass.shapes.as_outline`), start outside
-        [0, 1), negative offset, an approach that passes through the object.
+        Bad outline (see :func:`tentaclass.shapes.as_outline`), a link longer
+        than the object's diameter (as :func:`tentaclass.wrap` refuses), start
+        outside [0, 1), negative offset, an approach that passes through the object.
 
     Notes
     -----
@@ -285,6 +287,7 @@ def _prepare(
         raise InputError(f"direction must be one of 'ccw', 'cw', got {direction!r}")
     simplify = check_positive_float(simplify, "simplify", allow_zero=True)
     ln = chain.link_lengths
+    check_links_fit(ln, outline_diameter(p))
     s = 1.0 / float(ln.mean())
     thickness = 0.1 / s if thickness is None else check_positive_float(thickness, "thickness")
     r = 0.5 * thickness * s

@@ -7,8 +7,6 @@ from typing import Any, cast
 
 import numpy as np
 import shapely
-from scipy.spatial import ConvexHull
-from scipy.spatial.distance import pdist
 
 from .. import _dask
 from .._deprecation import UNSET, renamed
@@ -17,7 +15,13 @@ from .._validation import check_positive_float, check_positive_int
 from ..errors import InputError
 from ..shapes import as_outline
 from ._result import Wrap, WrapBatch
-from ._surface import Surface, build_surface, point_at_fraction
+from ._surface import (
+    Surface,
+    build_surface,
+    check_links_fit,
+    outline_diameter,
+    point_at_fraction,
+)
 
 __all__ = ["MAX_LINKS", "Wrap", "WrapBatch", "wrap", "wrap_many"]
 
@@ -257,7 +261,7 @@ def wrap_many(
     on_start = np.zeros(b, bool)
     scales = np.zeros(b)
     for outline, rows in zip(shapes, groups, strict=True):
-        diameter = float(pdist(outline[ConvexHull(outline).vertices]).max())
+        diameter = outline_diameter(outline)
         if thickness > diameter:
             raise InputError(
                 f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
@@ -266,13 +270,7 @@ def wrap_many(
         surf = build_surface(
             outline, mode, thickness, float(n * ls[rows].max()), mirror, float(ls[rows][0])
         )
-        too_long = ls[rows] > surf.diameter
-        if np.any(too_long):
-            raise InputError(
-                f"link_length {ls[rows][too_long][0]:g} is longer than the object's diameter "
-                f"{surf.diameter:g}: a link must fit between two points of the outline "
-                f"(use link_length <= {surf.diameter:g})"
-            )
+        check_links_fit(ls[rows], surf.diameter)
         res = _run(surf, outline, n, ls[rows], st[rows], off[rows], mirror)
         for key, val in res.items():
             out[key][rows] = val

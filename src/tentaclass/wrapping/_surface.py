@@ -11,9 +11,10 @@ from scipy.spatial import ConvexHull
 from scipy.spatial.distance import pdist
 
 from .._typing import FloatArray
+from ..errors import InputError
 from ..shapes import signed_area
 
-__all__ = ["Surface", "build_surface", "point_at_fraction"]
+__all__ = ["Surface", "build_surface", "check_links_fit", "outline_diameter", "point_at_fraction"]
 
 #: A chain thickness below this fraction of the object's extent is taken as 0.
 _NEGLIGIBLE = 1e-9
@@ -39,6 +40,34 @@ class Surface:
     def curve(self, c: int) -> FloatArray:
         """Vertices of lap curve ``c``."""
         return self.pts[self.off[c] : self.off[c + 1]]
+
+
+def outline_diameter(outline: FloatArray) -> float:
+    """Largest distance between two points of an outline (over its convex hull)."""
+    return float(pdist(outline[ConvexHull(outline).vertices]).max())
+
+
+def check_links_fit(link_lengths: FloatArray, diameter: float) -> None:
+    """Refuse links longer than the object's diameter: no link could lie on it.
+
+    A link rests with both ends on the object (or on the laps of the chain
+    around it), so its length cannot exceed the longest chord of the outline.
+
+    Examples
+    --------
+    >>> check_links_fit(np.array([1.0, 2.5]), 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: link_length 2.5 is longer than the object's diameter 2: \
+a link must fit between two points of the outline (use link_length <= 2)
+    """
+    too_long = np.asarray(link_lengths) > diameter
+    if np.any(too_long):
+        raise InputError(
+            f"link_length {np.asarray(link_lengths)[too_long].flat[0]:g} is longer than the "
+            f"object's diameter {diameter:g}: a link must fit between two points of the outline "
+            f"(use link_length <= {diameter:g})"
+        )
 
 
 def _edge_theta(p: FloatArray) -> FloatArray:
@@ -112,8 +141,7 @@ def _build(
     else:
         c0, on0 = _closing(outline, link_length / 2)
         vidx = np.zeros(0, np.int64)
-    hull_pts = c0 if mode == "taut" else outline[ConvexHull(outline).vertices]
-    diameter = float(pdist(hull_pts).max())
+    diameter = outline_diameter(outline)
     curves, flags = [c0], [on0]
     per0 = float(np.sum(np.hypot(*(np.roll(c0, -1, axis=0) - c0).T)))
     if thickness > 0:
