@@ -51,8 +51,21 @@ def test_no_command_still_shows_the_help():
     assert "Commands:" in r.output and "classify" in r.output
 
 
-def test_classify_files_empty_input_gives_an_empty_table(tmp_path):
+def _empty_angle_files(folder, n):
     import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    folder.mkdir()
+    np.save(folder / "a.npy", np.zeros((0, n)))
+    table = pa.table({f"q{i}": pa.array(np.zeros(0)) for i in range(n)})
+    pq.write_table(table, folder / "b.parquet")
+    (folder / "c.csv").write_text("")
+    (folder / "d.txt").write_text("# comments only\n\n")
+    np.save(folder / "e.npy", np.zeros(0))
+    return sorted(folder.iterdir())
+
+
+def test_classify_files_empty_input_gives_an_empty_table(tmp_path):
     import pyarrow.csv as pcsv
     import pyarrow.parquet as pq
 
@@ -61,18 +74,89 @@ def test_classify_files_empty_input_gives_an_empty_table(tmp_path):
     n = bundled_links()[0]
     model = str(files("tentaclass.data") / f"default-{n}.tcm")
     src = tmp_path / "in"
-    src.mkdir()
-    np.save(src / "a.npy", np.zeros((0, n)))
-    pq.write_table(pa.table({f"q{i}": pa.array(np.zeros(0)) for i in range(n)}), src / "b.parquet")
+    inputs = _empty_angle_files(src, n)
     columns = ["index", "label", "probability", "p_circle", "p_rectangle", "p_square", "p_triangle"]
     for extra in ([], ["--model", model]):
         out = tmp_path / f"out{len(extra)}"
         r = run("classify", "--files", str(src / "*"), "--out-dir", str(out), *extra)
         assert r.exit_code == 0, r.output
-        assert "0 arrays" in r.output
-        for table in (pcsv.read_csv(out / "a.labels.csv"), pq.read_table(out / "b.labels.parquet")):
+        for path in inputs:
+            suffix = ".parquet" if path.suffix == ".parquet" else ".csv"
+            dst = out / f"{path.stem}.labels{suffix}"
+            assert f"{path}: no rows -> {dst} (empty)" in r.output.splitlines()
+            table = pq.read_table(dst) if suffix == ".parquet" else pcsv.read_csv(dst)
             assert table.num_rows == 0
             assert table.column_names == columns
+
+
+def test_classify_file_without_rows_is_the_same_error_for_every_kind(tmp_path):
+    for path in _empty_angle_files(tmp_path / "in", 16):
+        r = run("classify", "--file", str(path))
+        assert r.exit_code == 1
+        assert one_line(r) == f"Error: {path}: no rows (no angle arrays in it)"
+
+
+def test_classify_file_reads_parquet_as_classify_files_does(tmp_path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    X = np.tile([0, 0, 0, np.pi / 2], (3, 4))
+    pq.write_table(pa.table({f"q{i}": X[:, i] for i in range(16)}), tmp_path / "a.parquet")
+    np.save(tmp_path / "a.npy", X)
+    by_parquet = run("classify", "--json", "--file", str(tmp_path / "a.parquet"))
+    assert by_parquet.exit_code == 0, by_parquet.output
+    assert by_parquet.output == run("classify", "--json", "--file", str(tmp_path / "a.npy")).output
+
+
+def test_classify_files_warns_once_per_chain_length_without_a_bundled_model(tmp_path):
+    import pyarrow.csv as pcsv
+
+    X = np.full((2, 24), 2 * np.pi / 24)
+    for name in ("a", "b"):
+        np.save(tmp_path / f"{name}.npy", X)
+    (tmp_path / "c.csv").write_text("\n".join(",".join(["2*pi/20"] * 20) for _ in range(3)))
+    r = CliRunner().invoke(cli, ["classify", "--files", str(tmp_path / "*"), "--out-dir",
+                                 str(tmp_path / "o")])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    warnings = [line for line in r.stderr.splitlines() if line.startswith("warning: ")]
+    assert [w.split(" links")[0] for w in warnings] == [
+        "warning: no bundled model for 20",
+        "warning: no bundled model for 24",
+    ]
+    assert "using the one-lap reference shapes" in warnings[0]
+    for name, n in (("a", 2), ("b", 2), ("c", 3)):
+        labels = pcsv.read_csv(tmp_path / "o" / f"{name}.labels.csv").column("label").to_pylist()
+        assert labels == ["circle"] * n
+
+
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("0 " * 15 + "pi\n" + "0 " * 16 + "pi\n", "rows have different numbers of angles [16, 17]"),
+        ("0 0\n", "arrays of 2 joint angles; a wrap has at least 3"),
+        ("0 0 0 x\n", "line 1: 'x' is not a number"),
+    ],
+)
+def test_classify_files_refuses_bad_text_files_naming_them(tmp_path, content, message):
+    (tmp_path / "a.csv").write_text(content)
+    r = run("classify", "--files", str(tmp_path / "a.csv"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 1
+    assert one_line(r).startswith(f"Error: {tmp_path / 'a.csv'}")
+    assert message in one_line(r)
+
+
+def test_classify_files_refuses_a_text_file_of_another_chain_length_before_any_work(tmp_path):
+    from tentaclass.io import bundled_links
+
+    n = bundled_links()[0]
+    model = str(files("tentaclass.data") / f"default-{n}.tcm")
+    np.save(tmp_path / "a.npy", np.tile([0, 0, 0, np.pi / 2], (3, n // 4)))
+    (tmp_path / "b.csv").write_text(" ".join(["pi/10"] * (n + 4)))
+    out = tmp_path / "o"
+    r = run("classify", "--files", str(tmp_path / "*"), "--out-dir", str(out), "--model", model)
+    assert r.exit_code == 1
+    assert f"b.csv: arrays of {n + 4} joint angles, but the model expects {n}" in one_line(r)
+    assert not out.exists()
 
 
 def test_classify_files_refuses_angles_that_are_not_radians(tmp_path):

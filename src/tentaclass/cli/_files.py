@@ -22,12 +22,15 @@ from .._dask import atomic_output
 from .._lazy import import_extra
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
-from .options import check_radians, read_angle_file
+from .options import check_radians, parse_angle_rows, read_angle_file
 
 #: Arrays read, featurised and classified per step.
 BLOCK_ROWS = 65536
 
 ANGLE_SUFFIXES = (".parquet", ".npy", ".csv", ".txt")
+
+#: Fewest joint angles of a wrap (a closed chain has at least three links).
+MIN_JOINTS = 3
 
 
 def expand(pattern: str, suffixes: tuple[str, ...] | None = None) -> list[Path]:
@@ -52,6 +55,57 @@ def output_paths(inputs: list[Path], out_dir: Path, suffix: str) -> list[Path]:
     return [out_dir / f"{p.stem}{suffix}" for p in inputs]
 
 
+def _parquet_file(path: Path) -> Any:
+    """A Parquet file of one numeric column per joint angle (``pyarrow.parquet.ParquetFile``)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        pf = pq.ParquetFile(path)
+    except (pa.ArrowException, OSError) as exc:
+        raise ValueError(f"{path}: not a readable Parquet file ({exc})") from None
+    bad = [f.name for f in pf.schema_arrow if not pa.types.is_floating(f.type)
+           and not pa.types.is_integer(f.type)]  # fmt: skip
+    if bad:
+        raise ValueError(f"{path}: column {bad[0]!r} is not numeric; expected one "
+                         "numeric column per joint angle")  # fmt: skip
+    return pf
+
+
+def _npy_file(path: Path) -> np.ndarray:
+    """A ``.npy`` file memory-mapped as (n_arrays, n_joints); a 1-D file is one array."""
+    with open(path, "rb") as fh:
+        if fh.read(6) != b"\x93NUMPY":
+            raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
+    try:
+        arr = np.load(path, mmap_mode="r", allow_pickle=False)
+    except (ValueError, OSError) as exc:
+        raise ValueError(f"{path}: not a readable .npy file ({exc})") from None
+    if arr.ndim == 1:
+        arr = arr.reshape(1, -1) if arr.size else arr.reshape(0, 0)
+    if arr.ndim != 2 or not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
+        raise ValueError(
+            f"{path}: expected a 2-D array of real numbers, got {arr.dtype} {arr.shape}"
+        )
+    return arr
+
+
+def chain_length(path: Path) -> int | None:
+    """Angles per array of an angle file, from its header or first row; None without rows."""
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        pf = _parquet_file(path)
+        return len(pf.schema_arrow) if pf.metadata.num_rows else None
+    if suffix == ".npy":
+        arr = _npy_file(path)
+        return arr.shape[1] if arr.shape[0] else None
+    try:
+        with open(path) as fh:
+            return parse_angle_rows(fh, str(path), first=True).shape[1] or None
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file") from None
+
+
 def angle_blocks(path: Path, rows: int | None = None) -> Iterator[np.ndarray]:
     """Joint-angle arrays of a Parquet, ``.npy`` or text/CSV file, ``rows`` at a time.
 
@@ -61,44 +115,23 @@ def angle_blocks(path: Path, rows: int | None = None) -> Iterator[np.ndarray]:
     rows = BLOCK_ROWS if rows is None else rows
     suffix = path.suffix.lower()
     if suffix == ".parquet":
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-
-        try:
-            pf = pq.ParquetFile(path)
-        except (pa.ArrowException, OSError) as exc:
-            raise ValueError(f"{path}: not a readable Parquet file ({exc})") from None
-        bad = [f.name for f in pf.schema_arrow if not pa.types.is_floating(f.type)
-               and not pa.types.is_integer(f.type)]  # fmt: skip
-        if bad:
-            raise ValueError(f"{path}: column {bad[0]!r} is not numeric; expected one "
-                             "numeric column per joint angle")  # fmt: skip
         # one thread: one file per worker process, one worker per core
-        for batch in pf.iter_batches(batch_size=rows, use_threads=False):
+        for batch in _parquet_file(path).iter_batches(batch_size=rows, use_threads=False):
             yield np.column_stack([c.to_numpy(zero_copy_only=False) for c in batch.columns]
                                   ).astype(np.float64, copy=False)  # fmt: skip
     elif suffix == ".npy":
-        with open(path, "rb") as fh:
-            if fh.read(6) != b"\x93NUMPY":
-                raise ValueError(f"{path}: not a readable .npy file (no .npy header)")
-        try:
-            arr = np.load(path, mmap_mode="r", allow_pickle=False)
-        except (ValueError, OSError) as exc:
-            raise ValueError(f"{path}: not a readable .npy file ({exc})") from None
-        arr = arr.reshape(1, -1) if arr.ndim == 1 else arr
-        if arr.ndim != 2 or not np.issubdtype(arr.dtype, np.number):
-            raise ValueError(
-                f"{path}: expected a 2-D array of numbers, got {arr.dtype} {arr.shape}"
-            )
+        arr = _npy_file(path)
         for lo in range(0, arr.shape[0], rows):
             yield np.asarray(arr[lo : lo + rows], dtype=np.float64)
     else:
         yield read_angle_file(path)
 
 
-def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int:
+def classify_file(src: Path, dst: Path, models: dict[int, Any]) -> int:
     """Classify every array of ``src`` into ``dst`` (Parquet or CSV); returns the count.
 
+    ``models`` maps a chain length to its model (see :func:`classify_files`);
+    a file without arrays gets an empty table with the columns of the first.
     ``dst`` gets the columns of :func:`tentaclass.report.classification_table`
     (``index`` counting from 0 over the whole file) and appears only when the
     whole file is done.
@@ -107,17 +140,16 @@ def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int
     import pyarrow.csv as pcsv
     import pyarrow.parquet as pq
 
-    if model is None:  # what classify uses without --model, for this file's chain length
-        from .classify import builtin_model
-
-        first = next(iter(angle_blocks(src, 1)), None)
-        model, _ = builtin_model(first.shape[1] if first is not None else 3, note=False)
-        n_joints = model.n_features_in_
+    n_joints = chain_length(src)
+    model = next(iter(models.values())) if n_joints is None else models.get(n_joints)
+    if model is None:  # a text file that changed since classify_files looked
+        raise ValueError(f"{src}: arrays of {n_joints} joint angles, but the model expects "
+                         f"{sorted(models)[0]}")  # fmt: skip
     done = 0
     writer = None
     with atomic_output(dst, "wb") as fh, contextlib.ExitStack() as stack:
-        for X in angle_blocks(src):
-            _check_block(src, X, n_joints, done)
+        for X in angle_blocks(src) if n_joints is not None else ():
+            _check_block(src, X, int(model.n_features_in_), done)
             table = classification_table(*predict_with_proba(model, X), model.classes_)
             table["index"] = table["index"] + done
             batch = pa.table(table)
@@ -187,37 +219,39 @@ def _write_objects(objects: list, out: Any, stats: Counter) -> None:
         stats[f"class:{obj.label}"] += 1
 
 
-def _chain_length(path: Path) -> int | None:
-    """Angles per array from a Parquet schema or a ``.npy`` header (None for text files)."""
-    suffix = path.suffix.lower()
-    if suffix == ".parquet":
-        return next(iter(angle_blocks(path, 1)), np.zeros((0, 0))).shape[1] or None
-    if suffix == ".npy":
-        first = next(iter(angle_blocks(path, 1)), None)
-        return None if first is None else first.shape[1]
-    return None
-
-
-def classify_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
-                   n_joints: int | None) -> list[tuple[Path, Path, int]]:  # fmt: skip
+def classify_files(pattern: str, out_dir: Path | None, client: Any,
+                   model: Any) -> list[tuple[Path, Path, int]]:  # fmt: skip
     """``classify --files``: every matching file -> ``out_dir/<stem>.labels.{parquet,csv}``.
 
-    With ``model`` None each file gets the model ``classify`` uses without
-    ``--model`` for its chain length: the bundled one, else the one-lap
-    reference model.
-    Files whose chain length differs from the model's are refused before any
-    work starts (Parquet and ``.npy``; text files when they are read).
+    Every file's chain length is read first (a Parquet schema, a ``.npy``
+    header, a text file's first row), and files whose length differs from
+    ``model``'s are refused before any work starts. With ``model`` None each
+    length gets the model ``classify`` uses without ``--model``: the bundled
+    one, else the one-lap reference shapes, with a warning on stderr (once per
+    length, from :func:`tentaclass.cli.classify.builtin_model`).
+    Files without arrays give an empty table with the model's columns.
     """
     if out_dir is None:
         raise ValueError("--files needs --out-dir, the folder for the per-file results")
     import_extra("pyarrow", "dask", "classify --files writes with pyarrow", error=ValueError)
     inputs = expand(pattern, ANGLE_SUFFIXES)
-    if n_joints is not None:
-        for path in inputs:
-            k = _chain_length(path)
-            if k is not None and k != n_joints:
-                raise ValueError(f"{path}: arrays of {k} joint angles, but the model expects "
-                                 f"{n_joints}")  # fmt: skip
+    lengths = [chain_length(p) for p in inputs]
+    expects = None if model is None else int(model.n_features_in_)
+    for path, k in zip(inputs, lengths, strict=True):
+        if k is not None and expects is not None and k != expects:
+            raise ValueError(f"{path}: arrays of {k} joint angles, but the model expects "
+                             f"{expects}")  # fmt: skip
+        if k is not None and k < MIN_JOINTS:
+            raise ValueError(f"{path}: arrays of {k} joint angles; a wrap has at least "
+                             f"{MIN_JOINTS}")  # fmt: skip
+    if model is not None:
+        models = {expects: model}
+    else:
+        from ..io import bundled_links
+        from .classify import builtin_model
+
+        found = sorted({k for k in lengths if k is not None}) or bundled_links()[:1]
+        models = {k: builtin_model(k)[0] for k in found}
     outputs = [
         out_dir / f"{p.stem}.labels{'.parquet' if p.suffix.lower() == '.parquet' else '.csv'}"
         for p in inputs
@@ -225,7 +259,7 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
     out_dir.mkdir(parents=True, exist_ok=True)
     from .._dask import map_files
 
-    counts = map_files(classify_file, inputs, outputs, model, n_joints, client=client)
+    counts = map_files(classify_file, inputs, outputs, models, client=client)
     return list(zip(inputs, outputs, counts, strict=True))
 
 

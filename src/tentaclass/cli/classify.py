@@ -82,18 +82,21 @@ def _check_wraps(X: np.ndarray) -> None:
         )
 
 
-def builtin_model(n_links: int, *, note: bool = True) -> tuple[Any, dict]:
+def builtin_model(n_links: int) -> tuple[Any, dict]:
     """The model and info ``classify`` uses without ``--model``, for ``n_links`` links.
 
-    The bundled model of that chain length, else the one-lap reference model
-    (:func:`default_model`), with a note on stderr if ``note``.
+    The bundled model of that chain length. For a chain length without one,
+    the one-lap reference model of the four thesis classes
+    (:func:`default_model`, info ``{}``), and always a one-line warning on
+    stderr saying so and naming the bundled lengths: its answers come from
+    ideal one-lap wraps, not from wraps of the user's chain.
 
     Examples
     --------
     >>> model, info = builtin_model(16)  # bundled
     >>> info["chain"]["n_links"], model.classes_.tolist()
     (16, ['circle', 'rectangle', 'square', 'triangle'])
-    >>> model, info = builtin_model(24, note=False)  # none bundled: the reference shapes
+    >>> model, info = builtin_model(24)  # none bundled: the reference shapes, a warning
     >>> info, model.n_features_in_
     ({}, 24)
     """
@@ -101,13 +104,12 @@ def builtin_model(n_links: int, *, note: bool = True) -> tuple[Any, dict]:
 
     if n_links in bundled_links():
         return bundled_predictor(n_links)
-    if note:
-        links = ", ".join(map(str, bundled_links()))
-        click.echo(
-            f"note: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
-            "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
-            err=True,
-        )
+    links = ", ".join(map(str, bundled_links()))
+    click.echo(
+        f"warning: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
+        "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
+        err=True,
+    )
     return default_model(n_links), {}
 
 
@@ -117,7 +119,7 @@ def builtin_model(n_links: int, *, note: bool = True) -> tuple[Any, dict]:
     "--file",
     "file",
     type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="Text/CSV file with one angle array per row, or a .npy file.",
+    help="Text/CSV file with one angle array per row, a .npy or a Parquet file.",
 )
 @click.option(
     "--model",
@@ -220,13 +222,10 @@ def _many(
         raise click.UsageError(
             "--files/--scheduler take the place of ANGLES and --file: give --files GLOB"
         )
-    model, n_joints = None, None
-    if model_file is not None:
-        model, _ = model_from_file(model_file)
-        n_joints = int(model.n_features_in_)
+    model = model_from_file(model_file)[0] if model_file is not None else None
     from ._files import classify_files
 
     with dask_client(scheduler) as client:
-        done = classify_files(files, out_dir, client, model, n_joints)
+        done = classify_files(files, out_dir, client, model)
     for src, dst, n in done:
-        click.echo(f"{src}: {n} arrays -> {dst}")
+        click.echo(f"{src}: {n} arrays -> {dst}" if n else f"{src}: no rows -> {dst} (empty)")

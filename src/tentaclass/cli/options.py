@@ -9,7 +9,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar, cast
 
@@ -99,9 +99,25 @@ def check_radians(X: np.ndarray, where: str, first: int = 0) -> None:
                          "many laps to count: are these joint angles in radians?")  # fmt: skip
 
 
+def no_rows(source: object) -> ValueError:
+    """The error for an angle file or stream without a single angle array."""
+    return ValueError(f"{source}: no rows (no angle arrays in it)")
+
+
 def read_angle_file(path: Path) -> np.ndarray:
-    """Arrays of joint angles from a ``.npy`` file or a text/CSV file, one per row."""
-    if path.suffix.lower() == ".npy":
+    """Arrays of joint angles, one per row, from a text/CSV, ``.npy`` or Parquet file.
+
+    A file without arrays is refused (:func:`no_rows`), whatever its kind.
+    """
+    suffix = path.suffix.lower()
+    if suffix == ".parquet":
+        from ._files import angle_blocks
+
+        blocks = list(angle_blocks(path))
+        if not blocks:
+            raise no_rows(path)
+        return np.vstack(blocks)
+    if suffix == ".npy":
         arr = load_npy(path)
         if (
             arr.ndim not in (1, 2)
@@ -111,6 +127,8 @@ def read_angle_file(path: Path) -> np.ndarray:
             raise ValueError(
                 f"{path}: expected a 1-D or 2-D array of real numbers, got {arr.dtype} {arr.shape}"
             )
+        if arr.size == 0 and (arr.ndim == 1 or arr.shape[0] == 0):
+            raise no_rows(path)
         return np.atleast_2d(arr.astype(np.float64))
     try:
         lines = path.read_text().splitlines()
@@ -119,8 +137,11 @@ def read_angle_file(path: Path) -> np.ndarray:
     return parse_angle_rows(lines, str(path))
 
 
-def parse_angle_rows(lines: list[str], source: str) -> np.ndarray:
+def parse_angle_rows(lines: Iterable[str], source: str, *, first: bool = False) -> np.ndarray:
     """Angle arrays, one per line (``#`` starts a comment), as a 2-D array.
+
+    With ``first``, only the first array, or none (shape ``(0, 0)``) in a
+    file without arrays: a file's chain length, without reading it all.
 
     >>> parse_angle_rows(["0 0 pi", "# note", "pi 0 0"], "input").shape
     (2, 3)
@@ -134,8 +155,12 @@ def parse_angle_rows(lines: list[str], source: str) -> np.ndarray:
             rows.append(parse_angle_list(line))
         except ValueError as exc:
             raise ValueError(f"{source}, line {lineno}: {exc}") from exc
+        if first:
+            break
     if not rows:
-        raise ValueError(f"{source}: no angle arrays found")
+        if first:
+            return np.zeros((0, 0))
+        raise no_rows(source)
     lengths = {r.size for r in rows}
     if len(lengths) > 1:
         raise ValueError(f"{source}: rows have different numbers of angles {sorted(lengths)}")
