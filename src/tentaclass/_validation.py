@@ -256,6 +256,71 @@ def check_fraction(value: object, name: str) -> float:
     return float(value)
 
 
+# A chain against an object: what wrap, wrap_many and the physical grasps refuse alike.
+
+
+def check_links_fit(link_lengths: ArrayLike, diameter: float) -> None:
+    """Refuse links longer than the object's diameter: no link could lie on it.
+
+    A link rests with both ends on the object (or on the laps of the chain
+    around it), so its length cannot exceed the longest chord of the outline.
+
+    Examples
+    --------
+    >>> check_links_fit([1.0, 2.5], 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: link_length 2.5 is longer than the object's diameter 2: \
+a link must fit between two points of the outline (use link_length <= 2)
+    """
+    ls = np.asarray(link_lengths, dtype=np.float64)
+    too_long = ls > diameter
+    if np.any(too_long):
+        raise InputError(
+            f"link_length {ls[too_long].flat[0]:g} is longer than the object's diameter "
+            f"{diameter:g}: a link must fit between two points of the outline "
+            f"(use link_length <= {diameter:g})"
+        )
+
+
+def check_thickness_fits(thickness: float, diameter: float) -> None:
+    """Refuse a chain thicker than the object's diameter: it could not lie on it.
+
+    >>> check_thickness_fits(3.0, 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: thickness 3 is larger than the object (diameter 2): a chain \
+that thick cannot lie on it (use thickness <= 2)
+    """
+    if thickness > diameter:
+        raise InputError(
+            f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
+            f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
+        )
+
+
+def check_reach(offset: ArrayLike, n_links: int, link_length: ArrayLike) -> None:
+    """Refuse a base farther from the object than the chain is long.
+
+    ``offset`` and ``link_length`` broadcast together (one per wrap).
+
+    >>> check_reach(10.0, 8, 1.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: offset 10 is longer than the chain (8 links of 1, 8): the chain \
+cannot reach the object (use offset <= n_links * link_length)
+    """
+    off, ls = np.broadcast_arrays(np.atleast_1d(offset), np.atleast_1d(link_length))
+    reach = n_links * ls
+    if np.any(off > reach):
+        q = int(np.argmax(off > reach))
+        raise InputError(
+            f"offset {off[q]:g} is longer than the chain ({n_links} links of {ls[q]:g}, "
+            f"{reach[q]:g}): the chain cannot reach the object (use offset <= n_links * "
+            "link_length)"
+        )
+
+
 # Planar chain (tentaclass.manipulator): link parameters, joint arrays, time grids.
 
 

@@ -55,8 +55,14 @@ def test_json_and_mask(tmp_path):
         (["--shape", "polygon", "--vertices", "0,0 1,1 1,0 0,1"], "intersects itself"),
         (["--shape", "square", "--mask", "nope.png"], "nope.png"),
         (["--links", "0"], "links"),
-        (["--shape", "circle", "--size", "1", "--links", "8", "--link-length", "5"],
-         "link_length 5 is longer than the object's diameter 2: "),
+        (
+            ["--shape", "circle", "--size", "1", "--links", "8", "--link-length", "5"],
+            "link_length 5 is longer than the object's diameter 2: ",
+        ),
+        (["--offset", "1e300"], "offset 1e+300 is longer than the chain (16 links of 1, 16)"),
+        (["--thickness", "1e300"], "thickness 1e+300 is larger than the object (diameter 5.6"),
+        (["--links", "1000000"], "MuJoCo builds chains of at most 496 links"),
+        (["--links", "4", "--link-length", "1e-300"], "the object is 4e+300 mean link lengths"),
     ],
 )
 def test_errors_are_one_line(args, message):

@@ -72,6 +72,7 @@ def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path 
     classify` reads them, followed by the grasp state read back from the
     angles alone. Needs the physics extra (pip install 'tentaclass[physics]').
     """
+    from .._validation import check_reach
     from ..manipulator import PlanarChain
     from ..wrapping import grasp_state
 
@@ -82,6 +83,7 @@ def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path 
         if link_length is None:
             perimeter = float(np.sum(np.hypot(*(np.roll(outline, -1, axis=0) - outline).T)))
             link_length = perimeter / links
+        check_reach(offset, links, link_length)  # wrap's rule: the library says "incomplete"
         g = do_grasp(
             outline, PlanarChain([link_length] * links), start=start, direction=direction,
             offset=offset, thickness=thickness, friction=friction, frames=2 if gif else 0,

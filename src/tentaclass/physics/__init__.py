@@ -14,10 +14,11 @@ from ._batch import grasp_many
 from ._controller import CurlController
 from ._decompose import convex_pieces
 from ._grasp import PhysicalGrasp, grasp
-from ._model import ChainModel, build_model, chain_mjcf
+from ._model import MAX_LINKS, ChainModel, build_model, chain_mjcf
 from ._quasi import quasi_static_grasp
 
 __all__ = [
+    "MAX_LINKS",
     "ChainModel",
     "CurlController",
     "PhysicalGrasp",

@@ -9,14 +9,16 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_float
+from .._validation import check_links_fit, check_positive_float, check_thickness_fits
 from ..errors import InputError
 from ..manipulator import PlanarChain
 from ..shapes import as_outline
+from ..shapes._outline import _MAX_SPAN
 from ..wrapping import Wrap
-from ..wrapping._surface import check_links_fit, outline_diameter
+from ..wrapping._surface import outline_diameter
 from ._controller import CurlController, _Sim
 from ._decompose import convex_pieces
+from ._model import check_chain_depth
 
 __all__ = ["PhysicalGrasp", "grasp"]
 
@@ -190,7 +192,9 @@ def grasp(
     ------
     InputError
         Bad outline (see :func:`tentaclass.shapes.as_outline`), a link longer
-        than the object's diameter (as :func:`tentaclass.wrap` refuses), start
+        or a thickness larger than the object's diameter (as
+        :func:`tentaclass.wrap` refuses them), more
+        links than MuJoCo builds (:data:`tentaclass.physics.MAX_LINKS`), start
         outside [0, 1), negative offset, an approach that passes through the object.
 
     Notes
@@ -223,6 +227,8 @@ def grasp(
         raise InputError(f"controller must be a CurlController, got {type(ctrl).__name__}")
     friction = check_positive_float(friction, "friction", allow_zero=True)
     timestep = check_positive_float(timestep, "timestep")
+    if isinstance(chain, PlanarChain):
+        check_chain_depth(chain)  # before the setup, whose work grows with the links
     su = _prepare(outline, chain, start, offset, direction, thickness, simplify)
     if su.early is not None:
         return su.early
@@ -287,9 +293,15 @@ def _prepare(
         raise InputError(f"direction must be one of 'ccw', 'cw', got {direction!r}")
     simplify = check_positive_float(simplify, "simplify", allow_zero=True)
     ln = chain.link_lengths
-    check_links_fit(ln, outline_diameter(p))
+    diameter = outline_diameter(p)
+    check_links_fit(ln, diameter)
     s = 1.0 / float(ln.mean())
+    across = float(np.ptp(p, axis=0).max()) * s
+    if not across <= _MAX_SPAN:  # the simulation runs in units of the mean link length
+        raise InputError(f"the object is {across:.3g} mean link lengths across: too many to "
+                         "compute with (use longer links)")  # fmt: skip
     thickness = 0.1 / s if thickness is None else check_positive_float(thickness, "thickness")
+    check_thickness_fits(thickness, diameter)
     r = 0.5 * thickness * s
     mirror = direction == "cw"
 

@@ -16,7 +16,11 @@ from ._decompose import convex_pieces
 if TYPE_CHECKING:
     import mujoco
 
-__all__ = ["ChainModel", "build_model", "chain_mjcf"]
+__all__ = ["MAX_LINKS", "ChainModel", "build_model", "chain_mjcf", "check_chain_depth"]
+
+#: Most links of a chain MuJoCo can build: each link is a body nested in the
+#: previous one, and MuJoCo's XML reader stops at 500 nested elements.
+MAX_LINKS = 496
 
 #: Inertia given to a link whose inertia about its centre of mass is 0
 #: (MuJoCo refuses massless or inertia-free moving bodies), relative to m l^2.
@@ -31,6 +35,20 @@ def _mujoco() -> Any:
             "tentaclass.physics needs MuJoCo: pip install 'tentaclass[physics]'"
         ) from exc
     return mujoco
+
+
+def check_chain_depth(chain: PlanarChain) -> None:
+    """Refuse a chain of more links than MuJoCo can nest (:data:`MAX_LINKS`).
+
+    >>> check_chain_depth(PlanarChain([1.0] * 500))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: MuJoCo builds chains of at most 496 links (one body nested \
+in the previous per link), got 500
+    """
+    if chain.n_links > MAX_LINKS:
+        raise InputError(f"MuJoCo builds chains of at most {MAX_LINKS} links (one body nested "
+                         f"in the previous per link), got {chain.n_links:,}")  # fmt: skip
 
 
 def _f(x: float) -> str:
@@ -137,6 +155,7 @@ def chain_mjcf(
     >>> xml.count('type="hinge"')
     2
     """
+    check_chain_depth(chain)
     n = chain.n_links
     thickness = check_positive_float(thickness, "thickness", allow_zero=True)
     friction = check_positive_float(friction, "friction", allow_zero=True)

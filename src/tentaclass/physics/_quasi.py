@@ -73,7 +73,7 @@ def quasi_static_grasp(
     Raises
     ------
     InputError
-        As :func:`grasp`.
+        As :func:`grasp`, except that any number of links is taken (no MuJoCo model).
 
     Examples
     --------

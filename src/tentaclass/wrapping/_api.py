@@ -11,14 +11,19 @@ import shapely
 from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_float, check_positive_int
+from .._validation import (
+    check_links_fit,
+    check_positive_float,
+    check_positive_int,
+    check_reach,
+    check_thickness_fits,
+)
 from ..errors import InputError
 from ..shapes import as_outline
 from ._result import Wrap, WrapBatch
 from ._surface import (
     Surface,
     build_surface,
-    check_links_fit,
     outline_diameter,
     point_at_fraction,
 )
@@ -239,13 +244,7 @@ def wrap_many(
     off = _as_batch(offset, "offset", b, 0.0, None)
     if np.any(ls <= 0):
         raise InputError(f"link_length must be > 0, got {link_length!r}")
-    reach = n * ls
-    if np.any(off > reach):
-        q = int(np.argmax(off > reach))
-        raise InputError(
-            f"offset {off[q]:g} is longer than the chain ({n} links of {ls[q]:g}, {reach[q]:g}):"
-            " the chain cannot reach the object (use offset <= n_links * link_length)"
-        )
+    check_reach(off, n, ls)
     mirror = direction == "cw"
     out = {
         "joints": np.full((b, n + 1, 2), np.nan),
@@ -262,11 +261,7 @@ def wrap_many(
     scales = np.zeros(b)
     for outline, rows in zip(shapes, groups, strict=True):
         diameter = outline_diameter(outline)
-        if thickness > diameter:
-            raise InputError(
-                f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
-                f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
-            )
+        check_thickness_fits(thickness, diameter)
         surf = build_surface(
             outline, mode, thickness, float(n * ls[rows].max()), mirror, float(ls[rows][0])
         )

@@ -11,10 +11,9 @@ from scipy.spatial import ConvexHull
 from scipy.spatial.distance import pdist
 
 from .._typing import FloatArray
-from ..errors import InputError
 from ..shapes import signed_area
 
-__all__ = ["Surface", "build_surface", "check_links_fit", "outline_diameter", "point_at_fraction"]
+__all__ = ["Surface", "build_surface", "outline_diameter", "point_at_fraction"]
 
 #: A chain thickness below this fraction of the object's extent is taken as 0.
 _NEGLIGIBLE = 1e-9
@@ -45,29 +44,6 @@ class Surface:
 def outline_diameter(outline: FloatArray) -> float:
     """Largest distance between two points of an outline (over its convex hull)."""
     return float(pdist(outline[ConvexHull(outline).vertices]).max())
-
-
-def check_links_fit(link_lengths: FloatArray, diameter: float) -> None:
-    """Refuse links longer than the object's diameter: no link could lie on it.
-
-    A link rests with both ends on the object (or on the laps of the chain
-    around it), so its length cannot exceed the longest chord of the outline.
-
-    Examples
-    --------
-    >>> check_links_fit(np.array([1.0, 2.5]), 2.0)
-    Traceback (most recent call last):
-    ...
-    tentaclass.errors.InputError: link_length 2.5 is longer than the object's diameter 2: \
-a link must fit between two points of the outline (use link_length <= 2)
-    """
-    too_long = np.asarray(link_lengths) > diameter
-    if np.any(too_long):
-        raise InputError(
-            f"link_length {np.asarray(link_lengths)[too_long].flat[0]:g} is longer than the "
-            f"object's diameter {diameter:g}: a link must fit between two points of the outline "
-            f"(use link_length <= {diameter:g})"
-        )
 
 
 def _edge_theta(p: FloatArray) -> FloatArray:
