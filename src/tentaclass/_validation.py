@@ -214,10 +214,12 @@ def check_X_y(
     return validate_data(estimator, X, y, **kwargs)
 
 
-def check_spread(value: object, name: str = "spread", *, minimum: float = 1e-150) -> float | str:
-    """A kernel width: ``"auto"`` or a finite number of at least ``minimum``.
+def check_spread(
+    value: object, name: str = "spread", *, minimum: float = 1e-150, maximum: float = 1e150
+) -> float | str:
+    """A kernel width: ``"auto"`` or a finite number in ``[minimum, maximum]``.
 
-    The default ``minimum`` keeps ``(1 / spread) ** 2`` finite in float64.
+    The defaults keep ``(1 / spread) ** 2`` and ``spread ** 2`` finite in float64.
     """
     if isinstance(value, str) and value == "auto":
         return value
@@ -228,6 +230,8 @@ def check_spread(value: object, name: str = "spread", *, minimum: float = 1e-150
         raise InputError(f"{name} must be 'auto' or a finite number > 0, got {value!r}")
     if v < minimum:
         raise InputError(f"{name} {value!r} is too small: it must be at least {minimum:g}")
+    if v > maximum:
+        raise InputError(f"{name} {value!r} is too large: it must be at most {maximum:g}")
     return v
 
 
@@ -296,6 +300,21 @@ that thick cannot lie on it (use thickness <= 2)
         raise InputError(
             f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
             f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
+        )
+
+
+def check_laps(laps: float, n_links: int) -> None:
+    """Refuse more laps than a chain can close: every lap takes at least two links.
+
+    >>> check_laps(9.0, 16)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: laps: 16 links cannot close 9 laps (at most 8: 2 links per lap)
+    """
+    if n_links / laps < 2:
+        raise InputError(
+            f"laps: {n_links} links cannot close {laps:g} laps (at most {n_links / 2:g}: "
+            "2 links per lap)"
         )
 
 

@@ -215,6 +215,7 @@ def test_labels_of_any_type_round_trip():
         ({"dtype": "float16"}, "dtype"),
         ({"dtype": "complex"}, "dtype"),
         ({"spread": 1e-300}, "too small"),  # (b / spread) ** 2 overflowed
+        ({"spread": 1e300}, "too large"),  # every kernel 1: chance-level answers
     ],
 )
 def test_bad_parameters(params, match):

@@ -142,6 +142,7 @@ def test_thesis_shapes_in_tentacle_classifier():
         ({"alpha": -1.0}, "alpha"),
         ({"goal": np.inf}, "goal"),
         ({"spread": 1e-300}, "too small"),  # (b / spread) ** 2 overflowed
+        ({"spread": 1e300}, "too large"),  # every kernel 1: chance-level answers
     ],
 )
 def test_bad_parameters(params, match):

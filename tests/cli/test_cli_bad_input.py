@@ -206,3 +206,32 @@ def test_the_script_shows_warnings_on_one_line(tmp_path):
     assert len(lines) == 2, r.stderr
     assert lines[0].startswith("warning: load_mpeg7 skipped 1 unreadable image(s)")
     assert lines[1].startswith("Error: no readable .png files")
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--laps", "1e300"], "laps: 16 links cannot close 1e+300 laps (at most 8"),
+        (["--diameters", "2,1e300"], "diameters must be at most 1e+100 link lengths"),
+        (["--noise", "1e300"], "noise must be at most 2*pi radians"),
+    ],
+)
+def test_train_outlines_refuses_sizes_beyond_reason(tmp_path, args, message):
+    from tentaclass.shapes import circle, square
+
+    np.save(tmp_path / "sq-1.npy", square(4.0))
+    np.save(tmp_path / "ci-1.npy", circle(2.0))
+    r = run("train", "--outlines", str(tmp_path / "*.npy"), "--links", "16",
+            "--out", str(tmp_path / "m.tcm"), *args)  # fmt: skip
+    assert r.exit_code == 1
+    assert message in one_line(r)
+    assert not (tmp_path / "m.tcm").exists()
+
+
+def test_train_refuses_a_spread_too_large_to_tell_classes_apart(tmp_path):
+    X = np.vstack([np.tile([0, 0, 0, np.pi / 2], (4, 4)), np.full((4, 16), 2 * np.pi / 16)])
+    np.savez(tmp_path / "d.npz", X=X, y=np.array(["sq"] * 4 + ["ci"] * 4))
+    r = run("train", "--data", str(tmp_path / "d.npz"), "--spread", "1e300",
+            "--out", str(tmp_path / "m.tcm"))  # fmt: skip
+    assert r.exit_code == 1
+    assert "spread 1e+300 is too large: it must be at most 1e+150" in one_line(r)

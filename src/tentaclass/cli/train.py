@@ -269,8 +269,8 @@ def train_for_chain(
     y = y_files[train.outline]
     if np.unique(y).size < 2:
         raise ValueError(
-            f"the wraps that worked cover only {np.unique(y).tolist()}; at least 2 classes are "
-            "needed"
+            f"{train.n_failed} of {train.n_failed + len(y)} wraps failed; those that worked "
+            f"cover only {np.unique(y).tolist()}: at least 2 classes are needed"
         )
     from ..classifiers import TentacleClassifier
 

@@ -22,10 +22,11 @@ from sklearn.utils import Bunch
 from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
-from .._validation import check_choice, check_positive_float, check_positive_int
+from .._validation import check_choice, check_laps, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
+from ..shapes._outline import _MAX_SPAN
 from ..wrapping import wrap_many
 from ._thesis import THESIS_CLASSES
 
@@ -36,6 +37,9 @@ def _noise_range(noise: float | tuple[float, float]) -> tuple[float, float]:
     hi = check_positive_float(hi, "noise", allow_zero=True)
     if hi < lo:
         raise InputError(f"noise range must be (low, high) with low <= high, got {noise!r}")
+    if hi > 2 * np.pi:
+        raise InputError(f"noise must be at most 2*pi radians (a sigma above a turn leaves "
+                         f"nothing of the angles), got {noise!r}")  # fmt: skip
     return lo, hi
 
 
@@ -878,8 +882,14 @@ def chain_wraps(
         raise InputError("give either laps or diameters (the other None)")
     if laps is not None:
         laps = _range(laps, "laps", allow_zero=False)
+        check_laps(laps[1], n_links)
     if diameters is not None:
         diameters = _range(diameters, "diameters", allow_zero=False)
+        if diameters[1] > _MAX_SPAN:
+            raise InputError(
+                f"diameters must be at most {_MAX_SPAN:g} link lengths (objects too large to "
+                f"compute with), got {diameters!r}"
+            )
         if diameters[0] < 1.0:
             raise InputError(
                 f"diameters must be at least 1 link length (a link must fit across the "

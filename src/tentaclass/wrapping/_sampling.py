@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike
-from .._validation import check_positive_float, check_positive_int
+from .._validation import check_laps, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..shapes import as_outline
 from ._api import wrap, wrap_many
@@ -223,10 +223,7 @@ def link_length_for_laps(
     """
     n = check_positive_int(n_links, "n_links", minimum=2)
     laps = check_positive_float(laps, "laps")
-    if n / laps < 2:
-        raise InputError(
-            f"laps: {n} links cannot close {laps:g} laps (at most {n / 2:g}: 2 links per lap)"
-        )
+    check_laps(laps, n)
     offset = check_positive_float(offset, "offset", allow_zero=True)
 
     def closing(links_per_lap: float) -> float:
