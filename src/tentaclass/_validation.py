@@ -78,13 +78,35 @@ def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int 
     return arr
 
 
-def check_positive_int(value: object, name: str, *, minimum: int = 1) -> int:
-    """An integer (not bool) of at least ``minimum``."""
+#: Largest joint-noise sigma, radians: a sigma above a turn leaves nothing of the angles.
+MAX_NOISE = 2 * np.pi
+
+#: Largest count the compiled kernels take (a signed 64-bit integer).
+MAX_INT64 = 2**63 - 1
+
+#: Largest size of one array axis read from a file (a row's pixels, rows per chunk).
+MAX_AXIS = 2**31 - 1
+
+
+def check_positive_int(
+    value: object, name: str, *, minimum: int = 1, maximum: int = MAX_INT64
+) -> int:
+    """An integer (not bool) in ``[minimum, maximum]``.
+
+    >>> check_positive_int(10**21, "min_area")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: min_area must be at most 9,223,372,036,854,775,807, \
+got 1,000,000,000,000,000,000,000
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise InputError(f"{name} must be an integer, got {value!r}")
-    if value < minimum:
-        raise InputError(f"{name} must be at least {minimum}, got {value}")
-    return int(value)
+    number = int(value)
+    if number < minimum:
+        raise InputError(f"{name} must be at least {minimum}, got {number}")
+    if number > maximum:
+        raise InputError(f"{name} must be at most {maximum:,}, got {number:,}")
+    return number
 
 
 def check_seed(

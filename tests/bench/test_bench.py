@@ -63,7 +63,7 @@ def test_bench_cli_bad_method():
         (["--methods", ""], "no method given"),  # ran and wrote an empty table
         (["--methods", ",,"], "no method given"),
         (["--noise", "nan"], "finite"),  # was "X contains 128 NaN or infinite value(s)"
-        (["--noise", "inf"], "finite"),
+        (["--noise", "inf"], "inf is not in the range 0<=x<=6.28"),
         (["--random-state", "-1"], "--random-state"),  # was "expected non-negative integer"
         (["--jobs", "0"], "--jobs"),
         (["--jobs", "-2"], "--jobs"),

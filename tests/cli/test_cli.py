@@ -88,7 +88,7 @@ def test_classify_any_chain_length():
         (["classify"], "either ANGLES or --file"),
         (["classify", "--file", "missing.csv"], "does not exist"),
         (["demo", "--noise", "nan", "--no-figures"], "finite"),
-        (["demo", "--noise", "inf", "--no-figures"], "finite"),
+        (["demo", "--noise", "inf", "--no-figures"], "inf is not in the range 0<=x<=6.28"),
         (["demo", "--random-state", "-1", "--no-figures"], "--random-state"),
     ],
 )

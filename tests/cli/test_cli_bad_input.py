@@ -36,6 +36,32 @@ def one_line(r):
         (["bench", "--folds", "1"], "tentaclass bench", "1 is not in the range"),
         (["demo", "--noise", "-1"], "tentaclass demo", "-1.0 is not in the range"),
         (["serve", "--port", "-1"], "tentaclass serve", "-1 is not in the range"),
+        (["grasp", "--links", "10" * 11], "tentaclass grasp", "at most 496 links (one body nested"),
+        (["bench", "--links", "10" * 11], "tentaclass bench", "not in the range 3<=x<=100000"),
+        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=10000000"),
+        (
+            ["bench", "--noise", "1e300"],
+            "tentaclass bench",
+            "1e+300 is not in the range 0<=x<=6.28",
+        ),
+        (["demo", "--noise", "1e300"], "tentaclass demo", "1e+300 is not in the range 0<=x<=6.28"),
+        (
+            ["wrap", "--plot", "no/such/dir/w.png"],
+            "tentaclass wrap",
+            "'no/such/dir' does not exist",
+        ),
+        (["grasp", "--gif", "no/such/g.gif"], "tentaclass grasp", "'no/such' does not exist"),
+        (["train", "--out", "no/such/m.tcm"], "tentaclass train", "'no/such' does not exist"),
+        (
+            ["scan", "--annotate", "no/a.png"],
+            "tentaclass scan",
+            "'--annotate': the folder 'no' does",
+        ),
+        (
+            ["scan", "--write-belt", "no/b.pbm"],
+            "tentaclass scan",
+            "'--write-belt': the folder 'no'",
+        ),
     ],
 )
 def test_usage_errors_take_one_line(args, command, message):
@@ -235,3 +261,28 @@ def test_train_refuses_a_spread_too_large_to_tell_classes_apart(tmp_path):
             "--out", str(tmp_path / "m.tcm"))  # fmt: skip
     assert r.exit_code == 1
     assert "spread 1e+300 is too large: it must be at most 1e+150" in one_line(r)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--min-area", "10" * 11], "min_area must be at most 9,223,372,036,854,775,807, got 1,0"),
+        (["--max-height", "10" * 11], "max_height must be at most 9,223,372,036,854,775,807"),
+        (["--format", "raw", "--width", "10" * 11], "width must be at most 2,147,483,647"),
+        (["--chunk-rows", "10" * 11], "chunk_rows must be at most 2,147,483,647"),
+    ],
+)
+def test_scan_refuses_counts_too_large_for_the_kernels(tmp_path, args, message):
+    (tmp_path / "belt.pbm").write_text("P1\n3 2\n0 1 0\n1 1 1\n")
+    r = run("scan", *args, str(tmp_path / "belt.pbm"))
+    assert r.exit_code == 1
+    assert message in one_line(r)
+
+
+def test_an_output_file_in_a_missing_folder_is_refused_before_any_work(tmp_path):
+    r = run("wrap", "--plot", str(tmp_path / "no" / "w.png"))
+    assert r.exit_code == 2
+    assert "Invalid value for '--plot': the folder" in one_line(r)
+    assert r.stdout == ""  # no angles printed before the error
+    r = run("wrap", "--links", "8", "--plot", str(tmp_path / "w.png"))
+    assert r.exit_code == 0 and (tmp_path / "w.png").stat().st_size > 0

@@ -165,9 +165,9 @@ def test_annotate_raw_input_and_unwritable_figure(tmp_path):
     assert ok.exit_code == 0, ok.output
     assert png.read_bytes()[:4] == b"\x89PNG"
     bad = CliRunner().invoke(scan, ["-", "--annotate", str(tmp_path / "no" / "x.png")], input=TEXT)
-    assert bad.exit_code == 1
-    assert len(_lines(bad)) == 2  # the objects were written before the figure failed
-    assert bad.stderr.startswith("Error: cannot write")
+    assert bad.exit_code == 2
+    assert bad.stdout == ""  # refused before any object is scanned
+    assert "Invalid value for '--annotate': the folder" in bad.stderr
 
 
 def test_pbm_header_too_large_for_memory_is_one_line_error():

@@ -7,8 +7,10 @@ from pathlib import Path
 import click
 import numpy as np
 
+from .._validation import MAX_NOISE
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
+from ..wrapping import MAX_LINKS
 from .options import dask_client, finite, random_state_option, scheduler_option
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ucr", "ArrowHead", "OSULeaf")
@@ -73,14 +75,17 @@ def _pair(ctx, param, value):
 
 @click.command()
 @click.option("--dataset", type=click.Choice(DATASETS), default="reference", show_default=True)
-@click.option("--links", type=click.IntRange(min=3), default=64, show_default=True)
+@click.option("--links", type=click.IntRange(min=3, max=MAX_LINKS), default=64,
+              show_default=True)  # fmt: skip
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
-@click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
-              callback=finite, help="Joint-angle noise sigma in radians.")  # fmt: skip
-@click.option("--copies", type=click.IntRange(min=1), default=1, show_default=True,
+@click.option("--noise", type=click.FloatRange(min=0, max=MAX_NOISE), default=0.0,
+              show_default=True, callback=finite,
+              help="Joint-angle noise sigma in radians (at most 2*pi).")  # fmt: skip
+@click.option("--copies", type=click.IntRange(min=1, max=10_000), default=1,
+              show_default=True,
               help="MPEG-7: wraps per shape; extra ones only train.")  # fmt: skip
-@click.option("--samples", type=click.IntRange(min=8), default=400, show_default=True,
-              help="Synthetic/reference: number of arrays.")  # fmt: skip
+@click.option("--samples", type=click.IntRange(min=8, max=10_000_000), default=400,
+              show_default=True, help="Synthetic/reference: number of arrays.")  # fmt: skip
 @click.option("--methods", default=DEFAULT_METHODS, show_default=True,
               help=f"Comma-separated, from: {', '.join(METHODS)}.")  # fmt: skip
 @click.option("--folds", type=click.IntRange(min=2), default=10, show_default=True)

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from .._validation import MAX_NOISE
 from ..classifiers import FourierClassifier
 from ..datasets import thesis_tentacle
 from .options import finite, random_state_option
@@ -97,7 +98,12 @@ def write_wrap_figures(out: Path) -> list[Path]:
     help="Folder for the figures.",
 )
 @click.option(
-    "--noise", type=click.FloatRange(min=0), default=0.02, show_default=True, callback=finite
+    "--noise",
+    type=click.FloatRange(min=0, max=MAX_NOISE),
+    default=0.02,
+    show_default=True,
+    callback=finite,
+    help="Joint-noise sigma of the perturbed copies, radians (at most 2*pi).",
 )
 @random_state_option("Seed of the perturbed variants.")
 @click.option("--no-figures", is_flag=True, help="Skip writing figures.")

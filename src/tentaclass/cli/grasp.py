@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import json_option, object_options, placement_options
+from .options import OutputFile, json_option, object_options, placement_options
 from .wrap import _outline
 
 if TYPE_CHECKING:
@@ -56,9 +56,9 @@ def _save_figures(
 @click.option("--thickness", type=click.FloatRange(min=0, min_open=True),
               help="Link diameter (default a tenth of a link).")  # fmt: skip
 @click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True)
-@click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
+@click.option("--plot", "plot", type=OutputFile(),
               help="Save the final pose with its contacts (PNG, PDF, SVG).")  # fmt: skip
-@click.option("--gif", type=click.Path(dir_okay=False, path_type=Path),
+@click.option("--gif", type=OutputFile(),
               help="Save an animation of the chain closing (GIF).")  # fmt: skip
 @json_option
 def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
@@ -78,6 +78,9 @@ def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path 
 
     try:
         from ..physics import grasp as do_grasp
+        from ..physics._model import check_chain_depth
+
+        check_chain_depth(links)
 
         outline = _outline(shape, size, vertices, mask)
         if link_length is None:

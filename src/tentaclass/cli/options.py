@@ -167,6 +167,22 @@ def parse_angle_rows(lines: Iterable[str], source: str, *, first: bool = False) 
     return np.vstack(rows)
 
 
+class OutputFile(click.Path):
+    """Click type for a file to write: not a folder, in a folder that exists.
+
+    Checked when the command line is read, before any work is done.
+    """
+
+    def __init__(self) -> None:
+        super().__init__(dir_okay=False, writable=True, path_type=Path)
+
+    def convert(self, value, param, ctx):  # noqa: D102
+        path = cast(Path, super().convert(value, param, ctx))
+        if not path.absolute().parent.is_dir():
+            self.fail(f"the folder {str(path.parent)!r} does not exist", param, ctx)
+        return path
+
+
 class AngleList(click.ParamType):
     """Click type for an angle list given on the command line."""
 

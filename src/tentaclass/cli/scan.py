@@ -25,7 +25,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import files_options, progress_bar, random_state_option, scheduler_option
+from .options import OutputFile, files_options, progress_bar, random_state_option, scheduler_option
 
 
 class _CountingReader:
@@ -142,7 +142,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 )
 @click.option(
     "--annotate",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=OutputFile(),
     help="Draw the belt with boxes, labels and defect marks to this PNG "
     "(keeps the whole belt in memory).",
 )
@@ -155,7 +155,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 @random_state_option("Seed of --simulate.")
 @click.option(
     "--write-belt",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=OutputFile(),
     help="With --simulate: also save the generated belt as a PBM file.",
 )
 @click.option(

@@ -15,6 +15,7 @@ import numpy as np
 from .._validation import as_angle_array
 from ..io import save_model
 from .options import (
+    OutputFile,
     check_radians,
     dask_client,
     finite,
@@ -363,7 +364,7 @@ def train_for_chain(
     "--out",
     "out",
     required=True,
-    type=click.Path(dir_okay=False, writable=True, path_type=Path),
+    type=OutputFile(),
     help="Model file to write (.tcm).",
 )
 @click.option(

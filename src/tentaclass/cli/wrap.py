@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import TentaclassError
 from .options import (
+    OutputFile,
     finite,
     json_option,
     object_options,
@@ -77,7 +78,7 @@ def _outline(
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
               help="Joint noise standard deviation (radians).")  # fmt: skip
 @random_state_option("Seed of the noise [default: fresh].", default=None)
-@click.option("--plot", "plot", type=click.Path(dir_okay=False, path_type=Path),
+@click.option("--plot", "plot", type=OutputFile(),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
 @json_option
 def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,

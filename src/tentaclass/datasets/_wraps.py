@@ -22,7 +22,13 @@ from sklearn.utils import Bunch
 from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
-from .._validation import check_choice, check_laps, check_positive_float, check_positive_int
+from .._validation import (
+    MAX_NOISE,
+    check_choice,
+    check_laps,
+    check_positive_float,
+    check_positive_int,
+)
 from ..errors import InputError
 from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
@@ -37,7 +43,7 @@ def _noise_range(noise: float | tuple[float, float]) -> tuple[float, float]:
     hi = check_positive_float(hi, "noise", allow_zero=True)
     if hi < lo:
         raise InputError(f"noise range must be (low, high) with low <= high, got {noise!r}")
-    if hi > 2 * np.pi:
+    if hi > MAX_NOISE:
         raise InputError(f"noise must be at most 2*pi radians (a sigma above a turn leaves "
                          f"nothing of the angles), got {noise!r}")  # fmt: skip
     return lo, hi

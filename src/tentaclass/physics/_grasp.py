@@ -228,7 +228,7 @@ def grasp(
     friction = check_positive_float(friction, "friction", allow_zero=True)
     timestep = check_positive_float(timestep, "timestep")
     if isinstance(chain, PlanarChain):
-        check_chain_depth(chain)  # before the setup, whose work grows with the links
+        check_chain_depth(chain.n_links)  # before the setup, whose work grows with the links
     su = _prepare(outline, chain, start, offset, direction, thickness, simplify)
     if su.early is not None:
         return su.early

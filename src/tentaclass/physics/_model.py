@@ -37,18 +37,18 @@ def _mujoco() -> Any:
     return mujoco
 
 
-def check_chain_depth(chain: PlanarChain) -> None:
+def check_chain_depth(n_links: int) -> None:
     """Refuse a chain of more links than MuJoCo can nest (:data:`MAX_LINKS`).
 
-    >>> check_chain_depth(PlanarChain([1.0] * 500))
+    >>> check_chain_depth(500)
     Traceback (most recent call last):
     ...
     tentaclass.errors.InputError: MuJoCo builds chains of at most 496 links (one body nested \
 in the previous per link), got 500
     """
-    if chain.n_links > MAX_LINKS:
+    if n_links > MAX_LINKS:
         raise InputError(f"MuJoCo builds chains of at most {MAX_LINKS} links (one body nested "
-                         f"in the previous per link), got {chain.n_links:,}")  # fmt: skip
+                         f"in the previous per link), got {n_links:,}")  # fmt: skip
 
 
 def _f(x: float) -> str:
@@ -155,7 +155,7 @@ def chain_mjcf(
     >>> xml.count('type="hinge"')
     2
     """
-    check_chain_depth(chain)
+    check_chain_depth(chain.n_links)
     n = chain.n_links
     thickness = check_positive_float(thickness, "thickness", allow_zero=True)
     friction = check_positive_float(friction, "friction", allow_zero=True)

@@ -33,7 +33,7 @@ from typing import IO, Any
 
 import numpy as np
 
-from .._validation import check_positive_int
+from .._validation import MAX_AXIS, check_positive_int
 from ..errors import InputError
 
 __all__ = ["FORMATS", "detect_format", "read_belt", "read_rows", "write_pbm", "write_text"]
@@ -291,9 +291,9 @@ def read_rows(
     >>> [c.astype(int).tolist() for c in read_rows(io.BytesIO(b"0110\n1111\n"))]
     [[[0, 1, 1, 0], [1, 1, 1, 1]]]
     """
-    chunk_rows = check_positive_int(chunk_rows, "chunk_rows")
+    chunk_rows = check_positive_int(chunk_rows, "chunk_rows", maximum=MAX_AXIS)
     if width is not None:
-        width = check_positive_int(width, "width")
+        width = check_positive_int(width, "width", maximum=MAX_AXIS)
     if fmt is not None and fmt not in FORMATS:
         raise InputError(f"fmt must be one of {list(FORMATS)}, got {fmt!r}")
     if dtype is not None and dtype not in RAW_DTYPES:

@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import check_positive_int
+from .._validation import MAX_AXIS, check_positive_int
 from ..errors import InputError
 from . import _segment as seg
 from .defects import DefectSettings
@@ -166,7 +166,7 @@ class LineScanner:
         size_tolerance: float = 0.1,
         settings: DefectSettings | None = None,
     ):
-        self.width = check_positive_int(width, "width")
+        self.width = check_positive_int(width, "width", maximum=MAX_AXIS)
         self.max_height = check_positive_int(max_height, "max_height")
         self.model, self.settings, self.size_tolerance = _check_options(
             model, settings, size_tolerance
