@@ -287,6 +287,23 @@ def test_bad_input(kwargs, match):
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
+        ({"link_length": [0.5, 0.6], "starts": [0.1, 0.2, 0.3]},
+         r"link_length, starts and offset have 2, 3 and 1 values"),
+        ({"starts": []}, "starts is empty"),  # was numpy's "zero-size array to reduction"
+        ({"link_length": []}, "link_length is empty"),
+        ({"outlines": [shapes.square(4)] * 2, "offset": [0.0, 0.1, 0.2]},
+         "offset has 3 values for 2 wraps: give one value or 2"),
+    ],
+)  # fmt: skip
+def test_wrap_many_batches_that_do_not_match(kwargs, match):
+    args = {"outlines": shapes.square(4), "n_links": 16, "link_length": 1.0} | kwargs
+    with pytest.raises(InputError, match=match):
+        wrap_many(args.pop("outlines"), args.pop("n_links"), args.pop("link_length"), **args)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
         ({"thickness": 1e300}, "thickness .* larger than the object"),
         ({"offset": 1e20}, "offset .* longer than the chain"),
         ({"offset": 1e300}, "offset .* longer than the chain"),

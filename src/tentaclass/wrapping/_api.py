@@ -54,11 +54,15 @@ def _as_batch(x: ArrayLike, name: str, b: int | None, lo: float, hi: float | Non
         raise InputError(f"{name} must be a number or an array of numbers") from exc
     if arr.ndim > 1:
         raise InputError(f"{name} must be a scalar or 1-D, got shape {arr.shape}")
+    if arr.size == 0:
+        raise InputError(f"{name} is empty: give a number or at least one value")
     if not np.all(np.isfinite(arr)):
         raise InputError(f"{name} contains NaN or infinite values")
     if np.any(arr < lo) or (hi is not None and np.any(arr >= hi)):
         rng = f"in [{lo:g}, {hi:g})" if hi is not None else f">= {lo:g}"
         raise InputError(f"{name} must be {rng}, got {x!r}")
+    if b is not None and arr.size not in (1, b):
+        raise InputError(f"{name} has {arr.size} values for {b} wraps: give one value or {b}")
     return arr if b is None else np.broadcast_to(arr, (b,)).copy()
 
 
@@ -229,7 +233,13 @@ def wrap_many(
         ls = _as_batch(link_length, "link_length", None, 0.0, None)
         st = _as_batch(starts, "starts", None, 0.0, 1.0)
         off = _as_batch(offset, "offset", None, 0.0, None)
-        b = int(np.broadcast_shapes(ls.shape, st.shape, off.shape, (1,))[0])
+        sizes = {a.size for a in (ls, st, off)} - {1}
+        if len(sizes) > 1:
+            raise InputError(
+                f"link_length, starts and offset have {ls.size}, {st.size} and {off.size} "
+                "values: give each one value or the same number of values"
+            )
+        b = max(sizes, default=1)
         groups = [np.arange(b)]
         if mode == "hug":  # the support depends on the link length
             lb = np.broadcast_to(ls, (b,))
