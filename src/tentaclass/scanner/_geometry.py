@@ -42,6 +42,12 @@ def _monotone_chain(a, b):
     m = a.shape[0]
     ha = np.empty(2 * m + 1)
     hb = np.empty(2 * m + 1)
+    return ha, hb, _chain_into(a, b, m, ha, hb)
+
+
+@nb.njit(**_OPTS)
+def _chain_into(a, b, m, ha, hb):
+    """:func:`_monotone_chain` of the first ``m`` points into ``ha``, ``hb`` (``2 m + 1`` each)."""
     k = 0
     for i in range(m):  # lower hull
         while k >= 2 and _cross(ha[k - 2], hb[k - 2], ha[k - 1], hb[k - 1], a[i], b[i]) <= 0:
@@ -56,7 +62,7 @@ def _monotone_chain(a, b):
         ha[k] = a[i]
         hb[k] = b[i]
         k += 1
-    return ha, hb, k - 1  # (the last point repeats the first)
+    return k - 1  # (the last point repeats the first)
 
 
 @nb.njit(**_OPTS)
@@ -204,18 +210,42 @@ def mask_hull(mask, corners):
     order; collinear points (a line or a point: no polygon) go to
     :func:`hull_ring`.
     """
+    scratch = _hull_scratch(mask.shape[0])
+    out = np.empty((2 * mask.shape[0] + 3, 2))
+    k = _mask_hull_into(mask, corners, scratch, out, 0)
+    if k < 0:
+        x, y = _mask_points(mask, corners)
+        return hull_ring(x, y)
+    return out[:k].copy()
+
+
+@nb.njit(**_OPTS)
+def _hull_scratch(h):
+    """Scratch of :func:`_mask_hull_into` for masks of up to ``h`` rows."""
+    return np.empty((6, 4 * h + 5))
+
+
+@nb.njit(**_OPTS)
+def _mask_hull_into(mask, corners, scratch, out, k0):
+    """:func:`mask_hull` written at ``out[k0:]`` (room for ``2 h + 3`` rows); returns its end.
+
+    ``scratch`` from :func:`_hull_scratch`. Returns -1 (nothing written) when
+    the points are collinear: :func:`mask_hull` then goes to :func:`hull_ring`.
+    """
     h, w = mask.shape
-    first = np.full(h, -1, dtype=np.int64)
-    last = np.full(h, -1, dtype=np.int64)
+    first = scratch[0]
+    last = scratch[1]
     for r in range(h):
+        first[r] = -1.0
+        last[r] = -1.0
         for c in range(w):
             if mask[r, c]:
                 if first[r] < 0:
                     first[r] = c
                 last[r] = c
     # the levels y = const, bottom up, each with its leftmost and rightmost point
-    px = np.empty(2 * h + 2)
-    py = np.empty(2 * h + 2)
+    px = scratch[2]
+    py = scratch[3]
     n = 0
     for k in range(h + 1 if corners else h):
         lo = np.inf
@@ -228,7 +258,7 @@ def mask_hull(mask, corners):
             level = k - 0.5
         else:
             if first[k] >= 0:
-                lo, hi = float(first[k]), float(last[k])
+                lo, hi = first[k], last[k]
             level = float(k)
         if lo > hi:
             continue
@@ -238,20 +268,20 @@ def mask_hull(mask, corners):
             px[n], py[n] = hi, level
             n += 1
     # the monotone chain with y as the sort axis: counter-clockwise with x and y swapped
-    hy, hx, k = _monotone_chain(py[:n], px[:n])
+    hy = scratch[4]
+    hx = scratch[5]
+    k = _chain_into(py, px, n, hy, hx)
     if k < 3:
-        x, y = _mask_points(mask, corners)
-        return hull_ring(x, y)
+        return -1
     start = 0
     for i in range(1, k):
         if hy[i] < hy[start] or (hy[i] == hy[start] and hx[i] < hx[start]):
             start = i
-    out = np.empty((k + 1, 2))
     for j in range(k + 1):  # clockwise with x and y as they are: walk forwards
         i = (start + j) % k
-        out[j, 0] = hx[i]
-        out[j, 1] = hy[i]
-    return out
+        out[k0 + j, 0] = hx[i]
+        out[k0 + j, 1] = hy[i]
+    return k0 + k + 1
 
 
 @nb.njit(**_OPTS)
@@ -289,8 +319,26 @@ def label_runs(region, eight):
     ``starts`` of the groups in them (``n_groups + 1``).
     """
     h, w = region.shape
-    lab = np.zeros((h, w), dtype=np.int64)
-    stack = np.empty(h * w, dtype=np.int64)
+    size = h * w
+    lab = np.empty(size, dtype=np.int64)
+    stack = np.empty(size, dtype=np.int64)
+    rows = np.empty(size, dtype=np.int64)
+    cols = np.empty(size, dtype=np.int64)
+    starts = np.empty(size + 1, dtype=np.int64)
+    n, total = _label_runs_into(region, eight, lab, stack, rows, cols, starts)
+    return rows[:total].copy(), cols[:total].copy(), starts[: n + 1].copy()
+
+
+@nb.njit(**_OPTS)
+def _label_runs_into(region, eight, lab_flat, stack, rows, cols, starts):
+    """:func:`label_runs` into scratch of ``region.size`` (``starts``: one more) each.
+
+    Returns the number of groups and of their pixels: the groups' pixels are
+    ``rows[:total]``, ``cols[:total]``, their starts ``starts[:n + 1]``.
+    """
+    h, w = region.shape
+    lab = lab_flat[: h * w].reshape((h, w))
+    lab[:] = 0
     n = 0
     for r0 in range(h):
         for c0 in range(w):
@@ -312,16 +360,16 @@ def label_runs(region, eight):
                             lab[rr, cc] = n
                             stack[top] = rr * w + cc
                             top += 1
-    starts = np.zeros(n + 1, dtype=np.int64)
+    starts[: n + 1] = 0
     for r in range(h):
         for c in range(w):
             if lab[r, c]:
                 starts[lab[r, c]] += 1
     for k in range(n):
         starts[k + 1] += starts[k]
-    pos = starts[:-1].copy()
-    rows = np.empty(starts[n], dtype=np.int64)
-    cols = np.empty(starts[n], dtype=np.int64)
+    pos = stack  # (free again) the next place of each group's pixels
+    for k in range(n):
+        pos[k] = starts[k]
     for r in range(h):
         for c in range(w):
             k = lab[r, c]
@@ -329,7 +377,7 @@ def label_runs(region, eight):
                 rows[pos[k - 1]] = r
                 cols[pos[k - 1]] = c
                 pos[k - 1] += 1
-    return rows, cols, starts
+    return n, starts[n]
 
 
 def row_extremes(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -359,11 +407,16 @@ def hulls_batch(flat, starts, heights, widths, corners):
         cap += 8 * heights[i] + 2
     coords = np.empty((cap, 2))
     ring_starts = np.zeros(n + 1, dtype=np.int64)
+    scratch = _hull_scratch(heights.max() if n else 0)
     k = 0
     for i in range(n):
-        ring = mask_hull(_mask_of(flat, starts, heights, widths, i), corners)
-        coords[k : k + ring.shape[0]] = ring
-        k += ring.shape[0]
+        mask = _mask_of(flat, starts, heights, widths, i)
+        end = _mask_hull_into(mask, corners, scratch, coords, k)
+        if end < 0:  # collinear points
+            ring = mask_hull(mask, corners)
+            end = k + ring.shape[0]
+            coords[k:end] = ring
+        k = end
         ring_starts[i + 1] = k
     return coords[:k], ring_starts
 
@@ -579,16 +632,16 @@ def _circle_distance(r, circle, row, col):
 
 
 @nb.njit(**_OPTS)
-def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
+def _signed_distance(kind, ring, circle, lo0, lo1, h, w, sd, c, nx, ny):
     """Signed distance of each canvas pixel centre to a convex outline (> 0 inside).
 
     ``kind`` 2: a circle centred at ``circle`` through the farthest point of
     ``ring``, to within 1e-12 (a square root for :func:`_circle_distance`'s
     :func:`numpy.hypot`); else the polygon ``ring`` (closed,
     counter-clockwise): exact inside, outside the distance to the farthest
-    edge line (mitre-style), which keeps corners sharp.
+    edge line (mitre-style), which keeps corners sharp. Written into ``sd``
+    ``(h, w)``; ``c``, ``nx`` and ``ny`` are scratch of a ring's length.
     """
-    sd = np.empty((h, w))
     if kind == 2:
         cx, cy = circle[0], circle[1]
         r = _circle_radius(ring, circle)
@@ -599,9 +652,6 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
                 sd[i, j] = r - np.sqrt(dx * dx + dy * dy)
         return sd
     m = ring.shape[0] - 1
-    c = np.empty(m)
-    nx = np.empty(m)
-    ny = np.empty(m)
     e = 0
     for k in range(m):
         dx = ring[k + 1, 0] - ring[k, 0]
@@ -626,11 +676,12 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
 
 
 @nb.njit(**_OPTS)
-def _edge_pixels(f):
-    """Rows and columns of the pixels of ``f`` with a 4-neighbour outside it (or the grid)."""
+def _edge_pixels(f, ys, xs):
+    """Rows and columns of the pixels of ``f`` with a 4-neighbour outside it (or the grid).
+
+    Written into ``ys`` and ``xs`` (room for ``f.size`` each); returns them and their number.
+    """
     h, w = f.shape
-    ys = np.empty(h * w, dtype=np.int64)
-    xs = np.empty(h * w, dtype=np.int64)
     n = 0
     for y in range(h):
         for x in range(w):
@@ -677,24 +728,49 @@ def defect_groups(
     ints = np.empty((cap, 7), dtype=np.int64)
     floats = np.empty((cap, 3))
     g = 0
+    # scratch for the largest mask or canvas, and the longest ring
+    big = 1
+    longest = 1
+    for i in range(n):
+        big = max(big, heights[i] * widths[i], canvas[i, 0] * canvas[i, 1])
+        longest = max(longest, ring_starts[i + 1] - ring_starts[i])
+    holes_buf = np.empty(big, dtype=np.bool_)
+    missing_buf = np.empty(big, dtype=np.bool_)
+    extra_buf = np.empty(big, dtype=np.bool_)
+    sd_buf = np.empty(big)
+    lab_buf = np.empty(big, dtype=np.int64)
+    stack = np.empty(big, dtype=np.int64)
+    rr = np.empty(big, dtype=np.int64)
+    cc = np.empty(big, dtype=np.int64)
+    gs = np.empty(big + 1, dtype=np.int64)
+    edge_y = np.empty(big, dtype=np.int64)
+    edge_x = np.empty(big, dtype=np.int64)
+    edge_c = np.empty(longest)
+    edge_nx = np.empty(longest)
+    edge_ny = np.empty(longest)
+    found = np.zeros(3, dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
         f = _mask_of(filled, starts, heights, widths, i)
         h, w = m.shape
-        sd = np.empty((0, 0))
+        sd = sd_buf[:0].reshape((0, 0))
         # holes (in the mask), missing and extra pixels (on the canvas), and how many
-        holes = np.empty((h, w), dtype=np.bool_)
-        found = np.zeros(3, dtype=np.int64)
+        holes = holes_buf[: h * w].reshape((h, w))
+        found[:] = 0
         for r in range(h):
             for c in range(w):
                 holes[r, c] = f[r, c] and not m[r, c]
                 found[0] += holes[r, c]
-        missing = np.empty((0, 0), dtype=np.bool_)
-        extra = np.empty((0, 0), dtype=np.bool_)
+        missing = missing_buf[:0].reshape((0, 0))
+        extra = extra_buf[:0].reshape((0, 0))
         if kind[i] != 0:
             ch, cw = canvas[i, 0], canvas[i, 1]
             a, b = ring_starts[i], ring_starts[i + 1]
-            sd = _signed_distance(kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw)
+            sd = sd_buf[: ch * cw].reshape((ch, cw))
+            _signed_distance(
+                kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw, sd, edge_c,
+                edge_nx, edge_ny,
+            )  # fmt: skip
             outer = -(1.0 + margin)
             radius = 0.0
             if kind[i] == 2:
@@ -708,8 +784,9 @@ def defect_groups(
                             sd[y, x] = _circle_distance(
                                 radius, circles[i], float(y + lo[i, 0]), float(x + lo[i, 1])
                             )
-            missing = np.empty((ch, cw), dtype=np.bool_)
-            extra = np.zeros((ch, cw), dtype=np.bool_)
+            missing = missing_buf[: ch * cw].reshape((ch, cw))
+            extra = extra_buf[: ch * cw].reshape((ch, cw))
+            extra[:] = False
             n_missing = 0
             n_extra = 0
             # the canvas columns that fall in the mask
@@ -734,8 +811,6 @@ def defect_groups(
             found[1] = n_missing
             found[2] = n_extra
         n_edge = -1  # the filled mask's edge pixels, found when first needed
-        edge_y = np.empty(0, dtype=np.int64)
-        edge_x = np.empty(0, dtype=np.int64)
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
@@ -752,8 +827,8 @@ def defect_groups(
                 smallest = min_burr_area
             if found[group] == 0 or found[group] < smallest:  # no group can be large enough
                 continue
-            rr, cc, gs = label_runs(region, group != 0)
-            for q in range(gs.shape[0] - 1):
+            n_groups = _label_runs_into(region, group != 0, lab_buf, stack, rr, cc, gs)[0]
+            for q in range(n_groups):
                 a, b = gs[q], gs[q + 1]
                 size = b - a
                 if size < smallest:
@@ -765,7 +840,7 @@ def defect_groups(
                     # exact Euclidean distance transform of ~filled, at its maximum);
                     # the nearest material pixel is always one on its edge
                     if n_edge < 0:
-                        edge_y, edge_x, n_edge = _edge_pixels(f)
+                        n_edge = _edge_pixels(f, edge_y, edge_x)[2]
                     for p in range(a, b):
                         best = np.inf
                         for e in range(n_edge):
@@ -972,7 +1047,7 @@ def _power_of_two(peak):
 
 
 @nb.njit(**_OPTS)
-def _ring_chord_turns(ring, n_points, walk, cross, dot):
+def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
     """Operands of the turning angles of a walk of ``n_points`` equal chords around a ring.
 
     The ring has no repeated first vertex (it is closed implicitly). The walk
@@ -981,26 +1056,30 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot):
     dot)``; this writes ``cross`` and ``dot`` (``n_points`` each) with the
     same arithmetic, and returns False where two consecutive points of the
     walk coincide (or the ring has no perimeter), where those functions raise.
-    ``walk`` is scratch of shape ``(n_points, 2)``.
+    ``walk`` is scratch of shape ``(n_points, 2)``, ``work`` of shape ``(4, m + 1)``
+    or more.
     """
     m = ring.shape[0]
     peak = 0.0
     for j in range(m):
         peak = max(peak, abs(ring[j, 0]), abs(ring[j, 1]))
     scale = _power_of_two(peak)
-    p = np.empty((m + 1, 2))
+    px = work[0]
+    py = work[1]
     for j in range(m):
-        p[j, 0] = ring[j, 0] / scale
-        p[j, 1] = ring[j, 1] / scale
-    p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
-    s = np.empty(m + 1)
+        px[j] = ring[j, 0] / scale
+        py[j] = ring[j, 1] / scale
+    px[m], py[m] = px[0], py[0]
+    s = work[2]
     s[0] = 0.0
     for j in range(m):
-        s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
+        s[j + 1] = s[j] + np.hypot(px[j + 1] - px[j], py[j + 1] - py[j])
     total = s[m]
     if not total > 0:
         return False
-    u = s / total
+    u = work[3]
+    for j in range(m + 1):
+        u[j] = s[j] / total
     j = 0
     peak = 0.0
     for k in range(n_points):
@@ -1010,9 +1089,9 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot):
         j = min(j, m - 1)
         u0, u1 = u[j], u[j + 1]
         w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
-        for d in range(2):
-            walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
-            peak = max(peak, abs(walk[k, d]))
+        walk[k, 0] = (px[j] + w * (px[j + 1] - px[j])) * scale
+        walk[k, 1] = (py[j] + w * (py[j + 1] - py[j])) * scale
+        peak = max(peak, abs(walk[k, 0]), abs(walk[k, 1]))
     scale = _power_of_two(peak)
     for k in range(n_points):
         walk[k, 0] /= scale
@@ -1047,6 +1126,10 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
     cross = np.empty((n, n_points))
     dot = np.empty((n, n_points))
     walk = np.empty((n_points, 2))
+    longest = 0
+    for i in range(n):
+        longest = max(longest, ring_starts[i + 1] - ring_starts[i])
+    work = np.empty((4, longest + 1))
     bad = False
     areas, perimeters, radii = hull_measures(rings, ring_starts)
     for i in range(n):
@@ -1057,7 +1140,7 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
         scalars[i, 2] = 4 * np.pi * area / (perimeter * perimeter)
         scalars[i, 3] = area / (np.pi * (radius * radius))
         scalars[i, 4] = 1.0 / np.sqrt(float(pixels[i]))
-        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i]):
+        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i], work):
             bad = True
     return scalars, cross, dot, bad
 
