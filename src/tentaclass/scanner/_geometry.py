@@ -137,7 +137,7 @@ def max_distance_outside(ring, px, py):
 
 @nb.njit(**_OPTS)
 def _fill_holes_into(mask, out, stack):
-    """:func:`fill_holes` written into ``out`` (same shape); ``stack``: room for every pixel."""
+    """:func:`fill_holes` written into ``out`` (same shape); ``stack``: ``(2, n)``, n >= pixels."""
     h, w = mask.shape
     out[:] = True  # False: background reached from the border
     top = 0
@@ -148,16 +148,18 @@ def _fill_holes_into(mask, out, stack):
             r, c = 0 if k < 2 * h + w else h - 1, (k - 2 * h) % w
         if not mask[r, c] and out[r, c]:
             out[r, c] = False
-            stack[top] = r * w + c
+            stack[0, top] = r
+            stack[1, top] = c
             top += 1
     while top > 0:
         top -= 1
-        r, c = divmod(stack[top], w)
+        r, c = stack[0, top], stack[1, top]
         for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
             rr, cc = r + dr, c + dc
             if 0 <= rr < h and 0 <= cc < w and not mask[rr, cc] and out[rr, cc]:
                 out[rr, cc] = False
-                stack[top] = rr * w + cc
+                stack[0, top] = rr
+                stack[1, top] = cc
                 top += 1
 
 
@@ -165,7 +167,7 @@ def _fill_holes_into(mask, out, stack):
 def fill_holes(mask):
     """``mask`` with every background region not 4-connected to the border filled."""
     out = np.empty(mask.shape, dtype=np.bool_)
-    _fill_holes_into(mask, out, np.empty(mask.size, dtype=np.int64))
+    _fill_holes_into(mask, out, np.empty((2, mask.size), dtype=np.int64))
     return out
 
 
@@ -346,11 +348,12 @@ def _label_runs_into(region, eight, lab_flat, stack, rows, cols, starts):
                 continue
             n += 1
             lab[r0, c0] = n
-            stack[0] = r0 * w + c0
+            rows[0] = r0  # (rows and cols: the stack, until the pixels are listed)
+            cols[0] = c0
             top = 1
             while top:
                 top -= 1
-                r, c = divmod(stack[top], w)
+                r, c = rows[top], cols[top]
                 for dr in (-1, 0, 1):
                     for dc in (-1, 0, 1):
                         if (dr == 0 and dc == 0) or (not eight and dr != 0 and dc != 0):
@@ -358,7 +361,8 @@ def _label_runs_into(region, eight, lab_flat, stack, rows, cols, starts):
                         rr, cc = r + dr, c + dc
                         if 0 <= rr < h and 0 <= cc < w and region[rr, cc] and not lab[rr, cc]:
                             lab[rr, cc] = n
-                            stack[top] = rr * w + cc
+                            rows[top] = rr
+                            cols[top] = cc
                             top += 1
     starts[: n + 1] = 0
     for r in range(h):
@@ -367,7 +371,7 @@ def _label_runs_into(region, eight, lab_flat, stack, rows, cols, starts):
                 starts[lab[r, c]] += 1
     for k in range(n):
         starts[k + 1] += starts[k]
-    pos = stack  # (free again) the next place of each group's pixels
+    pos = stack  # the next place of each group's pixels
     for k in range(n):
         pos[k] = starts[k]
     for r in range(h):
@@ -431,7 +435,7 @@ def measure_batch(flat, starts, heights, widths):
     biggest = 0
     for i in range(n):
         biggest = max(biggest, heights[i] * widths[i])
-    stack = np.empty(biggest, dtype=np.int64)
+    stack = np.empty((2, biggest), dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
         _fill_holes_into(m, _mask_of(filled, starts, heights, widths, i), stack)
@@ -665,13 +669,13 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w, sd, c, nx, ny):
     for i in range(h):
         row = float(i) + lo0
         for j in range(w):
-            col = float(j) + lo1
-            best = np.inf
-            for k in range(e):
-                v = (c[k] - nx[k] * col) - ny[k] * row
-                if v < best:
-                    best = v
-            sd[i, j] = best
+            sd[i, j] = np.inf
+        for k in range(e):
+            t = ny[k] * row
+            for j in range(w):
+                v = (c[k] - nx[k] * (float(j) + lo1)) - t
+                if v < sd[i, j]:
+                    sd[i, j] = v
     return sd
 
 
@@ -1564,25 +1568,11 @@ def outline_measures(coords, starts, polygon):
 
 
 @nb.njit(**_OPTS)
-def _circle_ring(ring, out, k):
-    """GEOS's minimum bounding circle of a convex ring (not closed), written at ``out[k:]``.
-
-    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
-    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
-    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
-    closed; a zero radius gives the centre point. Returns the end of the ring
-    in ``out`` and whether it is a polygon.
-    """
+def _circle_steps():
+    """Sines and cosines of the steps of :func:`_circle_ring` (values below 5e-16 snapped to 0)."""
     segs = int(abs(0.0 - 2.0 * np.pi) / (np.pi / 2.0 / _QUADRANT_SEGMENTS) + 0.5)
     inc = abs(0.0 - 2.0 * np.pi) / segs
-    cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
-    a = k
-    if r == 0.0:
-        out[k, 0], out[k, 1] = cx, cy
-        return k + 1, False
-    out[k, 0], out[k, 1] = cx + r, cy
-    k += 1
-    near = r * 1e-6
+    sc = np.empty((segs, 2))
     for j in range(segs):
         angle = 0.0 + (-j) * inc
         s = np.sin(angle)
@@ -1591,6 +1581,31 @@ def _circle_ring(ring, out, k):
             s = 0.0
         if abs(c) < 5e-16:
             c = 0.0
+        sc[j, 0], sc[j, 1] = s, c
+    return sc
+
+
+@nb.njit(**_OPTS)
+def _circle_ring(ring, out, k, steps):
+    """GEOS's minimum bounding circle of a convex ring (not closed), written at ``out[k:]``.
+
+    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
+    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
+    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
+    closed; a zero radius gives the centre point. ``steps``: the sines and
+    cosines of :func:`_circle_steps`. Returns the end of the ring in ``out``
+    and whether it is a polygon.
+    """
+    cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
+    a = k
+    if r == 0.0:
+        out[k, 0], out[k, 1] = cx, cy
+        return k + 1, False
+    out[k, 0], out[k, 1] = cx + r, cy
+    k += 1
+    near = r * 1e-6
+    for j in range(steps.shape[0]):
+        s, c = steps[j, 0], steps[j, 1]
         x, y = cx + r * c, cy + r * s
         dx, dy = x - out[k - 1, 0], y - out[k - 1, 1]
         if np.sqrt(dx * dx + dy * dy) < near:
@@ -1613,15 +1628,16 @@ def circle_outlines(coords, starts):
     """
     n = starts.shape[0] - 1
     out = np.empty((n * (4 * _QUADRANT_SEGMENTS + 2), 2))
+    steps = _circle_steps()
     out_starts = np.zeros(n + 1, dtype=np.int64)
     polygon = np.zeros(n, dtype=np.bool_)
     centroid = np.zeros((n, 2))
     k = 0
     for i in range(n):
         a = k
-        k, polygon[i] = _circle_ring(coords[starts[i] : starts[i + 1] - 1], out, k)
+        k, polygon[i] = _circle_ring(coords[starts[i] : starts[i + 1] - 1], out, k, steps)
         if polygon[i]:
-            centroid[i] = _centroid(out[a:k])
+            centroid[i, 0], centroid[i, 1] = _centroid(out[a:k])
         out_starts[i + 1] = k
     return out[:k], out_starts, polygon, centroid
 
@@ -1660,6 +1676,7 @@ def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts, tri_found, 
     starts = np.zeros(n + 1, dtype=np.int64)
     polygon = np.zeros(n, dtype=np.bool_)
     centroid = np.zeros((n, 2))
+    steps = _circle_steps()
     k = 0
     t = 0
     for i in range(n):
@@ -1670,9 +1687,9 @@ def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts, tri_found, 
             polygon[i] = True
         elif shape[i] == CIRCLE:
             a = k
-            k, polygon[i] = _circle_ring(ring[:-1], out, k)
+            k, polygon[i] = _circle_ring(ring[:-1], out, k, steps)
             if polygon[i]:
-                centroid[i] = _centroid(out[a:k])
+                centroid[i, 0], centroid[i, 1] = _centroid(out[a:k])
         elif shape[i] == TRIANGLE and tri_found[t]:
             for j in range(4):
                 out[k + j, 0], out[k + j, 1] = tris[t, j % 3, 0], tris[t, j % 3, 1]
@@ -1707,7 +1724,7 @@ def _centroid(ring):
         gx += sign * a2 * tx
         gy += sign * a2 * ty
         total += sign * a2
-    return np.array([gx / 3 / total, gy / 3 / total])
+    return gx / 3 / total, gy / 3 / total
 
 
 @nb.njit(**_OPTS)
