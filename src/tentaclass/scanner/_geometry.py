@@ -843,15 +843,23 @@ def defect_groups(
                     # how far the gap reaches from the remaining material (the
                     # exact Euclidean distance transform of ~filled, at its maximum);
                     # the nearest material pixel is always one on its edge
+                    # (the largest of the pixels' smallest squared distances, then its
+                    # root: a pixel stops once it cannot beat the largest so far)
                     if n_edge < 0:
                         n_edge = _edge_pixels(f, edge_y, edge_x)[2]
+                    deepest = 0
                     for p in range(a, b):
-                        best = np.inf
+                        best = -1
                         for e in range(n_edge):
                             dy = rr[p] - (edge_y[e] - lo0)
                             dx = cc[p] - (edge_x[e] - lo1)
-                            best = min(best, float(dy * dy + dx * dx))
-                        depth = max(depth, np.sqrt(best))
+                            d2 = dy * dy + dx * dx
+                            if best < 0 or d2 < best:
+                                best = d2
+                                if best <= deepest:
+                                    break
+                        deepest = max(deepest, best)
+                    depth = np.sqrt(float(deepest)) if n_edge > 0 else np.inf
                 elif group == 2:
                     depth = np.inf
                     for p in range(a, b):
