@@ -234,6 +234,13 @@ def _mask_hull_into(mask, corners, scratch, out, k0):
     ``scratch`` from :func:`_hull_scratch`. Returns -1 (nothing written) when
     the points are collinear: :func:`mask_hull` then goes to :func:`hull_ring`.
     """
+    _row_ends(mask, scratch)
+    return _ends_hull_into(mask.shape[0], corners, scratch, out, k0)
+
+
+@nb.njit(**_OPTS)
+def _row_ends(mask, scratch):
+    """The first and last pixel's column of each row of ``mask`` (-1: none) in ``scratch[:2]``."""
     h, w = mask.shape
     first = scratch[0]
     last = scratch[1]
@@ -245,6 +252,13 @@ def _mask_hull_into(mask, corners, scratch, out, k0):
                 if first[r] < 0:
                     first[r] = c
                 last[r] = c
+
+
+@nb.njit(**_OPTS)
+def _ends_hull_into(h, corners, scratch, out, k0):
+    """:func:`_mask_hull_into` of a mask of ``h`` rows from its :func:`_row_ends`."""
+    first = scratch[0]
+    last = scratch[1]
     # the levels y = const, bottom up, each with its leftmost and rightmost point
     px = scratch[2]
     py = scratch[3]
@@ -427,7 +441,11 @@ def hulls_batch(flat, starts, heights, widths, corners):
 
 @nb.njit(**_OPTS)
 def measure_batch(flat, starts, heights, widths):
-    """Filled masks (flat, as ``flat``), pixel-square hull rings, areas and row/column sums."""
+    """Filled masks (flat, as ``flat``), hull rings, areas and row/column sums.
+
+    The hull rings of the pixel squares and of the pixel centres
+    (:func:`hulls_both`); those of the filled masks are the same.
+    """
     n = heights.shape[0]
     filled = np.empty(flat.shape[0], dtype=np.bool_)
     area = np.zeros(n, dtype=np.int64)
@@ -451,8 +469,45 @@ def measure_batch(flat, starts, heights, widths):
         area[i] = a
         sums[i, 0] = sr
         sums[i, 1] = sc
-    coords, ring_starts = hulls_batch(flat, starts, heights, widths, True)
-    return filled, coords, ring_starts, area, sums
+    coords, ring_starts, centres, centre_starts = hulls_both(flat, starts, heights, widths)
+    return filled, coords, ring_starts, area, sums, centres, centre_starts
+
+
+@nb.njit(**_OPTS)
+def hulls_both(flat, starts, heights, widths):
+    """:func:`hulls_batch` of the pixel squares and of the pixel centres, in one pass."""
+    n = heights.shape[0]
+    cap = 0
+    for i in range(n):
+        cap += 8 * heights[i] + 2
+    coords = np.empty((cap, 2))
+    centres = np.empty((cap, 2))
+    ring_starts = np.zeros(n + 1, dtype=np.int64)
+    centre_starts = np.zeros(n + 1, dtype=np.int64)
+    scratch = _hull_scratch(heights.max() if n else 0)
+    k = 0
+    q = 0
+    for i in range(n):
+        mask = _mask_of(flat, starts, heights, widths, i)
+        _row_ends(mask, scratch)
+        for corners in (True, False):
+            at = k if corners else q
+            into = coords if corners else centres
+            end = _ends_hull_into(mask.shape[0], corners, scratch, into, at)
+            if end < 0:  # collinear points
+                ring = mask_hull(mask, corners)
+                end = at + ring.shape[0]
+                if corners:
+                    coords[at:end] = ring
+                else:
+                    centres[at:end] = ring
+            if corners:
+                k = end
+            else:
+                q = end
+        ring_starts[i + 1] = k
+        centre_starts[i + 1] = q
+    return coords[:k], ring_starts, centres[:q], centre_starts
 
 
 @nb.njit(**_OPTS)
@@ -1412,9 +1467,12 @@ def measure_cores(flat, starts, heights, widths, open_width):
     and the cores (flat, as ``flat``; the cores are ``filled`` itself when no
     object changed), the hull rings of the cores' pixel squares (closed, one
     after the other) and their starts, areas, row/column sums, rectangles
-    ``(n, 5, 2)`` and :func:`rectangle_sides` of them.
+    ``(n, 5, 2)``, :func:`rectangle_sides` of them, and the hull rings of the
+    cores' pixel centres (closed, one after the other) and their starts.
     """
-    filled, coords, ring_starts, area, sums = measure_batch(flat, starts, heights, widths)
+    filled, coords, ring_starts, area, sums, centres, centre_starts = measure_batch(
+        flat, starts, heights, widths
+    )
     corners = min_area_rectangles(coords, ring_starts)
     long, short, edge = rectangle_sides(corners)
     candidates = np.flatnonzero(short >= open_width)
@@ -1422,7 +1480,13 @@ def measure_cores(flat, starts, heights, widths, open_width):
         filled, starts, heights, widths, candidates, coords, ring_starts
     )
     if opened_starts.shape[0] == 1:  # no core changed
-        return filled, core, coords, ring_starts, area, sums, corners, long, short, edge
+        return (
+            filled, core, coords, ring_starts, area, sums, corners, long, short, edge, centres,
+            centre_starts,
+        )  # fmt: skip
+    centres, centre_starts = _replaced_centres(
+        core, starts, heights, widths, changed, centres, centre_starts
+    )
     n = heights.shape[0]
     new_starts = np.zeros(n + 1, dtype=np.int64)
     for i in range(n):  # the ring lengths, the opened ones where changed
@@ -1447,7 +1511,32 @@ def measure_cores(flat, starts, heights, widths, open_width):
         else:
             ring = coords[ring_starts[i] : ring_starts[i + 1]]
         new[a : a + ring.shape[0]] = ring
-    return filled, core, new, new_starts, area, sums, corners, long, short, edge
+    return (
+        filled, core, new, new_starts, area, sums, corners, long, short, edge, centres,
+        centre_starts,
+    )  # fmt: skip
+
+
+@nb.njit(**_OPTS)
+def _replaced_centres(core, starts, heights, widths, changed, centres, centre_starts):
+    """The centre hull rings with those of the ``changed`` objects taken from their cores."""
+    n = heights.shape[0]
+    cap = centres.shape[0]
+    for i in range(n):
+        if changed[i]:
+            cap += 2 * heights[i] + 3
+    out = np.empty((cap, 2))
+    out_starts = np.zeros(n + 1, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        if changed[i]:
+            ring = mask_hull(_mask_of(core, starts, heights, widths, i), False)
+        else:
+            ring = centres[centre_starts[i] : centre_starts[i + 1]]
+        out[k : k + ring.shape[0]] = ring
+        k += ring.shape[0]
+        out_starts[i + 1] = k
+    return out[:k], out_starts
 
 
 # -- areas, lengths, orientations and circles as GEOS computes them ------------------------------

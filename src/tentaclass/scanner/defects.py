@@ -219,20 +219,22 @@ def defect_arrays(
     labels: Sequence[str | None],
     settings: DefectSettings,
     extents: np.ndarray,
+    centres: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Defects of the objects of a measured batch, in arrays.
 
     ``extents``: ``(n, 4)`` the grid of each object in its mask's
-    coordinates (infinite: no edge). Returns what
+    coordinates (infinite: no edge); ``centres``: the hull rings of the
+    cores' pixel centres and their starts, if measured. Returns what
     :func:`~._geometry.defect_groups` returns: ``ints`` (object, code, area,
     box) and ``floats`` (centroid, depth), one row per defect.
     """
     s = settings
     flat, starts, heights, widths, filled, core = batch
     assert filled is not None and core is not None  # set by measure_batch_arrays
-    xy, out_starts, polygon, circles, code = _expected_rings(
-        *_centre_rings(batch._replace(mask=core)), labels
-    )
+    if centres is None:
+        centres = _centre_rings(batch._replace(mask=core))
+    xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels)
     cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
     kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
         xy, out_starts, polygon, code == geo.CIRCLE, cornered,

@@ -236,8 +236,9 @@ def inspect_masks(
             dtype=float,
         ).reshape(n, 4)
     ints, floats = defect_arrays(
-        m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2)
-    )
+        m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2),
+        (m.centres, m.centre_starts),
+    )  # fmt: skip
     if nominal_size is not None or not single:
         found = defect_records(ints, floats, tops, lefts)
         defects = [found.get(i, []) for i in range(n)]
