@@ -45,6 +45,33 @@ def test_hull_is_the_geos_hull_vertex_for_vertex(corners):
             assert ours.equals(ref)
 
 
+def test_batch_hulls_are_each_masks_hulls_and_the_cores_centre_hulls():
+    from tentaclass.scanner._geometry import hulls_batch, mask_hull, measure_cores
+    from tentaclass.scanner.descriptors import flatten_masks
+
+    rng = np.random.default_rng(3)
+    masks = list(_masks(n=300, seed=5))
+    # wide blobs with a burr, whose cores are opened
+    for _ in range(40):
+        m = np.zeros((20, 24), dtype=bool)
+        r0, c0 = rng.integers(1, 4, 2)
+        m[r0 : r0 + 14, c0 : c0 + 16] = True
+        m[rng.integers(4, 12), c0 + 16 : c0 + 16 + rng.integers(2, 7)] = True
+        masks.append(m)
+    batch = flatten_masks(masks)
+    out = measure_cores(*batch[:4], 12.0)
+    core, coords, starts, centres, centre_starts = out[1], out[2], out[3], out[10], out[11]
+    assert not np.array_equal(core, out[0])  # some cores were opened
+    ref, ref_starts = hulls_batch(core, *batch[1:4], False)
+    assert np.array_equal(centres, ref) and np.array_equal(centre_starts, ref_starts)
+    ref, ref_starts = hulls_batch(core, *batch[1:4], True)
+    assert np.array_equal(coords, ref) and np.array_equal(starts, ref_starts)
+    for corners in (True, False):
+        xy, at = hulls_batch(*batch[:4], corners)
+        for i, m in enumerate(masks):
+            assert np.array_equal(xy[at[i] : at[i + 1]], mask_hull(m, corners))
+
+
 def test_fill_holes_is_scipys():
     for m in _masks():
         assert np.array_equal(fill_holes(m), ndimage.binary_fill_holes(m))

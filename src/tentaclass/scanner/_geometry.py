@@ -42,6 +42,12 @@ def _monotone_chain(a, b):
     m = a.shape[0]
     ha = np.empty(2 * m + 1)
     hb = np.empty(2 * m + 1)
+    return ha, hb, _chain_into(a, b, m, ha, hb)
+
+
+@nb.njit(**_OPTS)
+def _chain_into(a, b, m, ha, hb):
+    """:func:`_monotone_chain` of the first ``m`` points into ``ha``, ``hb`` (``2 m + 1`` each)."""
     k = 0
     for i in range(m):  # lower hull
         while k >= 2 and _cross(ha[k - 2], hb[k - 2], ha[k - 1], hb[k - 1], a[i], b[i]) <= 0:
@@ -56,7 +62,7 @@ def _monotone_chain(a, b):
         ha[k] = a[i]
         hb[k] = b[i]
         k += 1
-    return ha, hb, k - 1  # (the last point repeats the first)
+    return k - 1  # (the last point repeats the first)
 
 
 @nb.njit(**_OPTS)
@@ -131,7 +137,7 @@ def max_distance_outside(ring, px, py):
 
 @nb.njit(**_OPTS)
 def _fill_holes_into(mask, out, stack):
-    """:func:`fill_holes` written into ``out`` (same shape); ``stack``: room for every pixel."""
+    """:func:`fill_holes` written into ``out`` (same shape); ``stack``: ``(2, n)``, n >= pixels."""
     h, w = mask.shape
     out[:] = True  # False: background reached from the border
     top = 0
@@ -142,16 +148,18 @@ def _fill_holes_into(mask, out, stack):
             r, c = 0 if k < 2 * h + w else h - 1, (k - 2 * h) % w
         if not mask[r, c] and out[r, c]:
             out[r, c] = False
-            stack[top] = r * w + c
+            stack[0, top] = r
+            stack[1, top] = c
             top += 1
     while top > 0:
         top -= 1
-        r, c = divmod(stack[top], w)
+        r, c = stack[0, top], stack[1, top]
         for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
             rr, cc = r + dr, c + dc
             if 0 <= rr < h and 0 <= cc < w and not mask[rr, cc] and out[rr, cc]:
                 out[rr, cc] = False
-                stack[top] = rr * w + cc
+                stack[0, top] = rr
+                stack[1, top] = cc
                 top += 1
 
 
@@ -159,7 +167,7 @@ def _fill_holes_into(mask, out, stack):
 def fill_holes(mask):
     """``mask`` with every background region not 4-connected to the border filled."""
     out = np.empty(mask.shape, dtype=np.bool_)
-    _fill_holes_into(mask, out, np.empty(mask.size, dtype=np.int64))
+    _fill_holes_into(mask, out, np.empty((2, mask.size), dtype=np.int64))
     return out
 
 
@@ -204,18 +212,56 @@ def mask_hull(mask, corners):
     order; collinear points (a line or a point: no polygon) go to
     :func:`hull_ring`.
     """
+    scratch = _hull_scratch(mask.shape[0])
+    out = np.empty((2 * mask.shape[0] + 3, 2))
+    k = _mask_hull_into(mask, corners, scratch, out, 0)
+    if k < 0:
+        x, y = _mask_points(mask, corners)
+        return hull_ring(x, y)
+    return out[:k].copy()
+
+
+@nb.njit(**_OPTS)
+def _hull_scratch(h):
+    """Scratch of :func:`_mask_hull_into` for masks of up to ``h`` rows."""
+    return np.empty((6, 4 * h + 5))
+
+
+@nb.njit(**_OPTS)
+def _mask_hull_into(mask, corners, scratch, out, k0):
+    """:func:`mask_hull` written at ``out[k0:]`` (room for ``2 h + 3`` rows); returns its end.
+
+    ``scratch`` from :func:`_hull_scratch`. Returns -1 (nothing written) when
+    the points are collinear: :func:`mask_hull` then goes to :func:`hull_ring`.
+    """
+    _row_ends(mask, scratch)
+    return _ends_hull_into(mask.shape[0], corners, scratch, out, k0)
+
+
+@nb.njit(**_OPTS)
+def _row_ends(mask, scratch):
+    """The first and last pixel's column of each row of ``mask`` (-1: none) in ``scratch[:2]``."""
     h, w = mask.shape
-    first = np.full(h, -1, dtype=np.int64)
-    last = np.full(h, -1, dtype=np.int64)
+    first = scratch[0]
+    last = scratch[1]
     for r in range(h):
+        first[r] = -1.0
+        last[r] = -1.0
         for c in range(w):
             if mask[r, c]:
                 if first[r] < 0:
                     first[r] = c
                 last[r] = c
+
+
+@nb.njit(**_OPTS)
+def _ends_hull_into(h, corners, scratch, out, k0):
+    """:func:`_mask_hull_into` of a mask of ``h`` rows from its :func:`_row_ends`."""
+    first = scratch[0]
+    last = scratch[1]
     # the levels y = const, bottom up, each with its leftmost and rightmost point
-    px = np.empty(2 * h + 2)
-    py = np.empty(2 * h + 2)
+    px = scratch[2]
+    py = scratch[3]
     n = 0
     for k in range(h + 1 if corners else h):
         lo = np.inf
@@ -228,7 +274,7 @@ def mask_hull(mask, corners):
             level = k - 0.5
         else:
             if first[k] >= 0:
-                lo, hi = float(first[k]), float(last[k])
+                lo, hi = first[k], last[k]
             level = float(k)
         if lo > hi:
             continue
@@ -238,20 +284,20 @@ def mask_hull(mask, corners):
             px[n], py[n] = hi, level
             n += 1
     # the monotone chain with y as the sort axis: counter-clockwise with x and y swapped
-    hy, hx, k = _monotone_chain(py[:n], px[:n])
+    hy = scratch[4]
+    hx = scratch[5]
+    k = _chain_into(py, px, n, hy, hx)
     if k < 3:
-        x, y = _mask_points(mask, corners)
-        return hull_ring(x, y)
+        return -1
     start = 0
     for i in range(1, k):
         if hy[i] < hy[start] or (hy[i] == hy[start] and hx[i] < hx[start]):
             start = i
-    out = np.empty((k + 1, 2))
     for j in range(k + 1):  # clockwise with x and y as they are: walk forwards
         i = (start + j) % k
-        out[j, 0] = hx[i]
-        out[j, 1] = hy[i]
-    return out
+        out[k0 + j, 0] = hx[i]
+        out[k0 + j, 1] = hy[i]
+    return k0 + k + 1
 
 
 @nb.njit(**_OPTS)
@@ -289,8 +335,26 @@ def label_runs(region, eight):
     ``starts`` of the groups in them (``n_groups + 1``).
     """
     h, w = region.shape
-    lab = np.zeros((h, w), dtype=np.int64)
-    stack = np.empty(h * w, dtype=np.int64)
+    size = h * w
+    lab = np.empty(size, dtype=np.int64)
+    stack = np.empty(size, dtype=np.int64)
+    rows = np.empty(size, dtype=np.int64)
+    cols = np.empty(size, dtype=np.int64)
+    starts = np.empty(size + 1, dtype=np.int64)
+    n, total = _label_runs_into(region, eight, lab, stack, rows, cols, starts)
+    return rows[:total].copy(), cols[:total].copy(), starts[: n + 1].copy()
+
+
+@nb.njit(**_OPTS)
+def _label_runs_into(region, eight, lab_flat, stack, rows, cols, starts):
+    """:func:`label_runs` into scratch of ``region.size`` (``starts``: one more) each.
+
+    Returns the number of groups and of their pixels: the groups' pixels are
+    ``rows[:total]``, ``cols[:total]``, their starts ``starts[:n + 1]``.
+    """
+    h, w = region.shape
+    lab = lab_flat[: h * w].reshape((h, w))
+    lab[:] = 0
     n = 0
     for r0 in range(h):
         for c0 in range(w):
@@ -298,11 +362,12 @@ def label_runs(region, eight):
                 continue
             n += 1
             lab[r0, c0] = n
-            stack[0] = r0 * w + c0
+            rows[0] = r0  # (rows and cols: the stack, until the pixels are listed)
+            cols[0] = c0
             top = 1
             while top:
                 top -= 1
-                r, c = divmod(stack[top], w)
+                r, c = rows[top], cols[top]
                 for dr in (-1, 0, 1):
                     for dc in (-1, 0, 1):
                         if (dr == 0 and dc == 0) or (not eight and dr != 0 and dc != 0):
@@ -310,18 +375,19 @@ def label_runs(region, eight):
                         rr, cc = r + dr, c + dc
                         if 0 <= rr < h and 0 <= cc < w and region[rr, cc] and not lab[rr, cc]:
                             lab[rr, cc] = n
-                            stack[top] = rr * w + cc
+                            rows[top] = rr
+                            cols[top] = cc
                             top += 1
-    starts = np.zeros(n + 1, dtype=np.int64)
+    starts[: n + 1] = 0
     for r in range(h):
         for c in range(w):
             if lab[r, c]:
                 starts[lab[r, c]] += 1
     for k in range(n):
         starts[k + 1] += starts[k]
-    pos = starts[:-1].copy()
-    rows = np.empty(starts[n], dtype=np.int64)
-    cols = np.empty(starts[n], dtype=np.int64)
+    pos = stack  # the next place of each group's pixels
+    for k in range(n):
+        pos[k] = starts[k]
     for r in range(h):
         for c in range(w):
             k = lab[r, c]
@@ -329,7 +395,7 @@ def label_runs(region, eight):
                 rows[pos[k - 1]] = r
                 cols[pos[k - 1]] = c
                 pos[k - 1] += 1
-    return rows, cols, starts
+    return n, starts[n]
 
 
 def row_extremes(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -359,18 +425,27 @@ def hulls_batch(flat, starts, heights, widths, corners):
         cap += 8 * heights[i] + 2
     coords = np.empty((cap, 2))
     ring_starts = np.zeros(n + 1, dtype=np.int64)
+    scratch = _hull_scratch(heights.max() if n else 0)
     k = 0
     for i in range(n):
-        ring = mask_hull(_mask_of(flat, starts, heights, widths, i), corners)
-        coords[k : k + ring.shape[0]] = ring
-        k += ring.shape[0]
+        mask = _mask_of(flat, starts, heights, widths, i)
+        end = _mask_hull_into(mask, corners, scratch, coords, k)
+        if end < 0:  # collinear points
+            ring = mask_hull(mask, corners)
+            end = k + ring.shape[0]
+            coords[k:end] = ring
+        k = end
         ring_starts[i + 1] = k
     return coords[:k], ring_starts
 
 
 @nb.njit(**_OPTS)
 def measure_batch(flat, starts, heights, widths):
-    """Filled masks (flat, as ``flat``), pixel-square hull rings, areas and row/column sums."""
+    """Filled masks (flat, as ``flat``), hull rings, areas and row/column sums.
+
+    The hull rings of the pixel squares and of the pixel centres
+    (:func:`hulls_both`); those of the filled masks are the same.
+    """
     n = heights.shape[0]
     filled = np.empty(flat.shape[0], dtype=np.bool_)
     area = np.zeros(n, dtype=np.int64)
@@ -378,7 +453,7 @@ def measure_batch(flat, starts, heights, widths):
     biggest = 0
     for i in range(n):
         biggest = max(biggest, heights[i] * widths[i])
-    stack = np.empty(biggest, dtype=np.int64)
+    stack = np.empty((2, biggest), dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
         _fill_holes_into(m, _mask_of(filled, starts, heights, widths, i), stack)
@@ -394,8 +469,45 @@ def measure_batch(flat, starts, heights, widths):
         area[i] = a
         sums[i, 0] = sr
         sums[i, 1] = sc
-    coords, ring_starts = hulls_batch(flat, starts, heights, widths, True)
-    return filled, coords, ring_starts, area, sums
+    coords, ring_starts, centres, centre_starts = hulls_both(flat, starts, heights, widths)
+    return filled, coords, ring_starts, area, sums, centres, centre_starts
+
+
+@nb.njit(**_OPTS)
+def hulls_both(flat, starts, heights, widths):
+    """:func:`hulls_batch` of the pixel squares and of the pixel centres, in one pass."""
+    n = heights.shape[0]
+    cap = 0
+    for i in range(n):
+        cap += 8 * heights[i] + 2
+    coords = np.empty((cap, 2))
+    centres = np.empty((cap, 2))
+    ring_starts = np.zeros(n + 1, dtype=np.int64)
+    centre_starts = np.zeros(n + 1, dtype=np.int64)
+    scratch = _hull_scratch(heights.max() if n else 0)
+    k = 0
+    q = 0
+    for i in range(n):
+        mask = _mask_of(flat, starts, heights, widths, i)
+        _row_ends(mask, scratch)
+        for corners in (True, False):
+            at = k if corners else q
+            into = coords if corners else centres
+            end = _ends_hull_into(mask.shape[0], corners, scratch, into, at)
+            if end < 0:  # collinear points
+                ring = mask_hull(mask, corners)
+                end = at + ring.shape[0]
+                if corners:
+                    coords[at:end] = ring
+                else:
+                    centres[at:end] = ring
+            if corners:
+                k = end
+            else:
+                q = end
+        ring_starts[i + 1] = k
+        centre_starts[i + 1] = q
+    return coords[:k], ring_starts, centres[:q], centre_starts
 
 
 @nb.njit(**_OPTS)
@@ -579,16 +691,16 @@ def _circle_distance(r, circle, row, col):
 
 
 @nb.njit(**_OPTS)
-def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
+def _signed_distance(kind, ring, circle, lo0, lo1, h, w, sd, c, nx, ny):
     """Signed distance of each canvas pixel centre to a convex outline (> 0 inside).
 
     ``kind`` 2: a circle centred at ``circle`` through the farthest point of
     ``ring``, to within 1e-12 (a square root for :func:`_circle_distance`'s
     :func:`numpy.hypot`); else the polygon ``ring`` (closed,
     counter-clockwise): exact inside, outside the distance to the farthest
-    edge line (mitre-style), which keeps corners sharp.
+    edge line (mitre-style), which keeps corners sharp. Written into ``sd``
+    ``(h, w)``; ``c``, ``nx`` and ``ny`` are scratch of a ring's length.
     """
-    sd = np.empty((h, w))
     if kind == 2:
         cx, cy = circle[0], circle[1]
         r = _circle_radius(ring, circle)
@@ -599,9 +711,6 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
                 sd[i, j] = r - np.sqrt(dx * dx + dy * dy)
         return sd
     m = ring.shape[0] - 1
-    c = np.empty(m)
-    nx = np.empty(m)
-    ny = np.empty(m)
     e = 0
     for k in range(m):
         dx = ring[k + 1, 0] - ring[k, 0]
@@ -615,22 +724,23 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w):
     for i in range(h):
         row = float(i) + lo0
         for j in range(w):
-            col = float(j) + lo1
-            best = np.inf
-            for k in range(e):
-                v = (c[k] - nx[k] * col) - ny[k] * row
-                if v < best:
-                    best = v
-            sd[i, j] = best
+            sd[i, j] = np.inf
+        for k in range(e):
+            t = ny[k] * row
+            for j in range(w):
+                v = (c[k] - nx[k] * (float(j) + lo1)) - t
+                if v < sd[i, j]:
+                    sd[i, j] = v
     return sd
 
 
 @nb.njit(**_OPTS)
-def _edge_pixels(f):
-    """Rows and columns of the pixels of ``f`` with a 4-neighbour outside it (or the grid)."""
+def _edge_pixels(f, ys, xs):
+    """Rows and columns of the pixels of ``f`` with a 4-neighbour outside it (or the grid).
+
+    Written into ``ys`` and ``xs`` (room for ``f.size`` each); returns them and their number.
+    """
     h, w = f.shape
-    ys = np.empty(h * w, dtype=np.int64)
-    xs = np.empty(h * w, dtype=np.int64)
     n = 0
     for y in range(h):
         for x in range(w):
@@ -677,24 +787,49 @@ def defect_groups(
     ints = np.empty((cap, 7), dtype=np.int64)
     floats = np.empty((cap, 3))
     g = 0
+    # scratch for the largest mask or canvas, and the longest ring
+    big = 1
+    longest = 1
+    for i in range(n):
+        big = max(big, heights[i] * widths[i], canvas[i, 0] * canvas[i, 1])
+        longest = max(longest, ring_starts[i + 1] - ring_starts[i])
+    holes_buf = np.empty(big, dtype=np.bool_)
+    missing_buf = np.empty(big, dtype=np.bool_)
+    extra_buf = np.empty(big, dtype=np.bool_)
+    sd_buf = np.empty(big)
+    lab_buf = np.empty(big, dtype=np.int64)
+    stack = np.empty(big, dtype=np.int64)
+    rr = np.empty(big, dtype=np.int64)
+    cc = np.empty(big, dtype=np.int64)
+    gs = np.empty(big + 1, dtype=np.int64)
+    edge_y = np.empty(big, dtype=np.int64)
+    edge_x = np.empty(big, dtype=np.int64)
+    edge_c = np.empty(longest)
+    edge_nx = np.empty(longest)
+    edge_ny = np.empty(longest)
+    found = np.zeros(3, dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
         f = _mask_of(filled, starts, heights, widths, i)
         h, w = m.shape
-        sd = np.empty((0, 0))
+        sd = sd_buf[:0].reshape((0, 0))
         # holes (in the mask), missing and extra pixels (on the canvas), and how many
-        holes = np.empty((h, w), dtype=np.bool_)
-        found = np.zeros(3, dtype=np.int64)
+        holes = holes_buf[: h * w].reshape((h, w))
+        found[:] = 0
         for r in range(h):
             for c in range(w):
                 holes[r, c] = f[r, c] and not m[r, c]
                 found[0] += holes[r, c]
-        missing = np.empty((0, 0), dtype=np.bool_)
-        extra = np.empty((0, 0), dtype=np.bool_)
+        missing = missing_buf[:0].reshape((0, 0))
+        extra = extra_buf[:0].reshape((0, 0))
         if kind[i] != 0:
             ch, cw = canvas[i, 0], canvas[i, 1]
             a, b = ring_starts[i], ring_starts[i + 1]
-            sd = _signed_distance(kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw)
+            sd = sd_buf[: ch * cw].reshape((ch, cw))
+            _signed_distance(
+                kind[i], rings[a:b], circles[i], lo[i, 0], lo[i, 1], ch, cw, sd, edge_c,
+                edge_nx, edge_ny,
+            )  # fmt: skip
             outer = -(1.0 + margin)
             radius = 0.0
             if kind[i] == 2:
@@ -708,8 +843,9 @@ def defect_groups(
                             sd[y, x] = _circle_distance(
                                 radius, circles[i], float(y + lo[i, 0]), float(x + lo[i, 1])
                             )
-            missing = np.empty((ch, cw), dtype=np.bool_)
-            extra = np.zeros((ch, cw), dtype=np.bool_)
+            missing = missing_buf[: ch * cw].reshape((ch, cw))
+            extra = extra_buf[: ch * cw].reshape((ch, cw))
+            extra[:] = False
             n_missing = 0
             n_extra = 0
             # the canvas columns that fall in the mask
@@ -734,8 +870,6 @@ def defect_groups(
             found[1] = n_missing
             found[2] = n_extra
         n_edge = -1  # the filled mask's edge pixels, found when first needed
-        edge_y = np.empty(0, dtype=np.int64)
-        edge_x = np.empty(0, dtype=np.int64)
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
             smallest = float(min_hole_area)
@@ -752,8 +886,8 @@ def defect_groups(
                 smallest = min_burr_area
             if found[group] == 0 or found[group] < smallest:  # no group can be large enough
                 continue
-            rr, cc, gs = label_runs(region, group != 0)
-            for q in range(gs.shape[0] - 1):
+            n_groups = _label_runs_into(region, group != 0, lab_buf, stack, rr, cc, gs)[0]
+            for q in range(n_groups):
                 a, b = gs[q], gs[q + 1]
                 size = b - a
                 if size < smallest:
@@ -764,15 +898,23 @@ def defect_groups(
                     # how far the gap reaches from the remaining material (the
                     # exact Euclidean distance transform of ~filled, at its maximum);
                     # the nearest material pixel is always one on its edge
+                    # (the largest of the pixels' smallest squared distances, then its
+                    # root: a pixel stops once it cannot beat the largest so far)
                     if n_edge < 0:
-                        edge_y, edge_x, n_edge = _edge_pixels(f)
+                        n_edge = _edge_pixels(f, edge_y, edge_x)[2]
+                    deepest = 0
                     for p in range(a, b):
-                        best = np.inf
+                        best = -1
                         for e in range(n_edge):
                             dy = rr[p] - (edge_y[e] - lo0)
                             dx = cc[p] - (edge_x[e] - lo1)
-                            best = min(best, float(dy * dy + dx * dx))
-                        depth = max(depth, np.sqrt(best))
+                            d2 = dy * dy + dx * dx
+                            if best < 0 or d2 < best:
+                                best = d2
+                                if best <= deepest:
+                                    break
+                        deepest = max(deepest, best)
+                    depth = np.sqrt(float(deepest)) if n_edge > 0 else np.inf
                 elif group == 2:
                     depth = np.inf
                     for p in range(a, b):
@@ -972,7 +1114,7 @@ def _power_of_two(peak):
 
 
 @nb.njit(**_OPTS)
-def _ring_chord_turns(ring, n_points, walk, cross, dot):
+def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
     """Operands of the turning angles of a walk of ``n_points`` equal chords around a ring.
 
     The ring has no repeated first vertex (it is closed implicitly). The walk
@@ -981,26 +1123,30 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot):
     dot)``; this writes ``cross`` and ``dot`` (``n_points`` each) with the
     same arithmetic, and returns False where two consecutive points of the
     walk coincide (or the ring has no perimeter), where those functions raise.
-    ``walk`` is scratch of shape ``(n_points, 2)``.
+    ``walk`` is scratch of shape ``(n_points, 2)``, ``work`` of shape ``(4, m + 1)``
+    or more.
     """
     m = ring.shape[0]
     peak = 0.0
     for j in range(m):
         peak = max(peak, abs(ring[j, 0]), abs(ring[j, 1]))
     scale = _power_of_two(peak)
-    p = np.empty((m + 1, 2))
+    px = work[0]
+    py = work[1]
     for j in range(m):
-        p[j, 0] = ring[j, 0] / scale
-        p[j, 1] = ring[j, 1] / scale
-    p[m, 0], p[m, 1] = p[0, 0], p[0, 1]
-    s = np.empty(m + 1)
+        px[j] = ring[j, 0] / scale
+        py[j] = ring[j, 1] / scale
+    px[m], py[m] = px[0], py[0]
+    s = work[2]
     s[0] = 0.0
     for j in range(m):
-        s[j + 1] = s[j] + np.hypot(p[j + 1, 0] - p[j, 0], p[j + 1, 1] - p[j, 1])
+        s[j + 1] = s[j] + np.hypot(px[j + 1] - px[j], py[j + 1] - py[j])
     total = s[m]
     if not total > 0:
         return False
-    u = s / total
+    u = work[3]
+    for j in range(m + 1):
+        u[j] = s[j] / total
     j = 0
     peak = 0.0
     for k in range(n_points):
@@ -1010,9 +1156,9 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot):
         j = min(j, m - 1)
         u0, u1 = u[j], u[j + 1]
         w = (t - u0) / (u1 - u0) if u1 > u0 else 0.0
-        for d in range(2):
-            walk[k, d] = (p[j, d] + w * (p[j + 1, d] - p[j, d])) * scale
-            peak = max(peak, abs(walk[k, d]))
+        walk[k, 0] = (px[j] + w * (px[j + 1] - px[j])) * scale
+        walk[k, 1] = (py[j] + w * (py[j + 1] - py[j])) * scale
+        peak = max(peak, abs(walk[k, 0]), abs(walk[k, 1]))
     scale = _power_of_two(peak)
     for k in range(n_points):
         walk[k, 0] /= scale
@@ -1047,6 +1193,10 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
     cross = np.empty((n, n_points))
     dot = np.empty((n, n_points))
     walk = np.empty((n_points, 2))
+    longest = 0
+    for i in range(n):
+        longest = max(longest, ring_starts[i + 1] - ring_starts[i])
+    work = np.empty((4, longest + 1))
     bad = False
     areas, perimeters, radii = hull_measures(rings, ring_starts)
     for i in range(n):
@@ -1057,7 +1207,7 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
         scalars[i, 2] = 4 * np.pi * area / (perimeter * perimeter)
         scalars[i, 3] = area / (np.pi * (radius * radius))
         scalars[i, 4] = 1.0 / np.sqrt(float(pixels[i]))
-        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i]):
+        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i], work):
             bad = True
     return scalars, cross, dot, bad
 
@@ -1317,9 +1467,12 @@ def measure_cores(flat, starts, heights, widths, open_width):
     and the cores (flat, as ``flat``; the cores are ``filled`` itself when no
     object changed), the hull rings of the cores' pixel squares (closed, one
     after the other) and their starts, areas, row/column sums, rectangles
-    ``(n, 5, 2)`` and :func:`rectangle_sides` of them.
+    ``(n, 5, 2)``, :func:`rectangle_sides` of them, and the hull rings of the
+    cores' pixel centres (closed, one after the other) and their starts.
     """
-    filled, coords, ring_starts, area, sums = measure_batch(flat, starts, heights, widths)
+    filled, coords, ring_starts, area, sums, centres, centre_starts = measure_batch(
+        flat, starts, heights, widths
+    )
     corners = min_area_rectangles(coords, ring_starts)
     long, short, edge = rectangle_sides(corners)
     candidates = np.flatnonzero(short >= open_width)
@@ -1327,7 +1480,13 @@ def measure_cores(flat, starts, heights, widths, open_width):
         filled, starts, heights, widths, candidates, coords, ring_starts
     )
     if opened_starts.shape[0] == 1:  # no core changed
-        return filled, core, coords, ring_starts, area, sums, corners, long, short, edge
+        return (
+            filled, core, coords, ring_starts, area, sums, corners, long, short, edge, centres,
+            centre_starts,
+        )  # fmt: skip
+    centres, centre_starts = _replaced_centres(
+        core, starts, heights, widths, changed, centres, centre_starts
+    )
     n = heights.shape[0]
     new_starts = np.zeros(n + 1, dtype=np.int64)
     for i in range(n):  # the ring lengths, the opened ones where changed
@@ -1352,7 +1511,32 @@ def measure_cores(flat, starts, heights, widths, open_width):
         else:
             ring = coords[ring_starts[i] : ring_starts[i + 1]]
         new[a : a + ring.shape[0]] = ring
-    return filled, core, new, new_starts, area, sums, corners, long, short, edge
+    return (
+        filled, core, new, new_starts, area, sums, corners, long, short, edge, centres,
+        centre_starts,
+    )  # fmt: skip
+
+
+@nb.njit(**_OPTS)
+def _replaced_centres(core, starts, heights, widths, changed, centres, centre_starts):
+    """The centre hull rings with those of the ``changed`` objects taken from their cores."""
+    n = heights.shape[0]
+    cap = centres.shape[0]
+    for i in range(n):
+        if changed[i]:
+            cap += 2 * heights[i] + 3
+    out = np.empty((cap, 2))
+    out_starts = np.zeros(n + 1, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        if changed[i]:
+            ring = mask_hull(_mask_of(core, starts, heights, widths, i), False)
+        else:
+            ring = centres[centre_starts[i] : centre_starts[i + 1]]
+        out[k : k + ring.shape[0]] = ring
+        k += ring.shape[0]
+        out_starts[i + 1] = k
+    return out[:k], out_starts
 
 
 # -- areas, lengths, orientations and circles as GEOS computes them ------------------------------
@@ -1481,25 +1665,11 @@ def outline_measures(coords, starts, polygon):
 
 
 @nb.njit(**_OPTS)
-def _circle_ring(ring, out, k):
-    """GEOS's minimum bounding circle of a convex ring (not closed), written at ``out[k:]``.
-
-    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
-    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
-    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
-    closed; a zero radius gives the centre point. Returns the end of the ring
-    in ``out`` and whether it is a polygon.
-    """
+def _circle_steps():
+    """Sines and cosines of the steps of :func:`_circle_ring` (values below 5e-16 snapped to 0)."""
     segs = int(abs(0.0 - 2.0 * np.pi) / (np.pi / 2.0 / _QUADRANT_SEGMENTS) + 0.5)
     inc = abs(0.0 - 2.0 * np.pi) / segs
-    cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
-    a = k
-    if r == 0.0:
-        out[k, 0], out[k, 1] = cx, cy
-        return k + 1, False
-    out[k, 0], out[k, 1] = cx + r, cy
-    k += 1
-    near = r * 1e-6
+    sc = np.empty((segs, 2))
     for j in range(segs):
         angle = 0.0 + (-j) * inc
         s = np.sin(angle)
@@ -1508,6 +1678,31 @@ def _circle_ring(ring, out, k):
             s = 0.0
         if abs(c) < 5e-16:
             c = 0.0
+        sc[j, 0], sc[j, 1] = s, c
+    return sc
+
+
+@nb.njit(**_OPTS)
+def _circle_ring(ring, out, k, steps):
+    """GEOS's minimum bounding circle of a convex ring (not closed), written at ``out[k:]``.
+
+    The circle is GEOS's buffer of the centre (:func:`bounding_circle`): from
+    ``(cx + r, cy)`` clockwise in 32 steps (sines and cosines below 5e-16
+    snapped to 0, points closer than ``1e-6 r`` to the one before dropped),
+    closed; a zero radius gives the centre point. ``steps``: the sines and
+    cosines of :func:`_circle_steps`. Returns the end of the ring in ``out``
+    and whether it is a polygon.
+    """
+    cx, cy, r = bounding_circle(ring[:, 0], ring[:, 1])
+    a = k
+    if r == 0.0:
+        out[k, 0], out[k, 1] = cx, cy
+        return k + 1, False
+    out[k, 0], out[k, 1] = cx + r, cy
+    k += 1
+    near = r * 1e-6
+    for j in range(steps.shape[0]):
+        s, c = steps[j, 0], steps[j, 1]
         x, y = cx + r * c, cy + r * s
         dx, dy = x - out[k - 1, 0], y - out[k - 1, 1]
         if np.sqrt(dx * dx + dy * dy) < near:
@@ -1530,15 +1725,16 @@ def circle_outlines(coords, starts):
     """
     n = starts.shape[0] - 1
     out = np.empty((n * (4 * _QUADRANT_SEGMENTS + 2), 2))
+    steps = _circle_steps()
     out_starts = np.zeros(n + 1, dtype=np.int64)
     polygon = np.zeros(n, dtype=np.bool_)
     centroid = np.zeros((n, 2))
     k = 0
     for i in range(n):
         a = k
-        k, polygon[i] = _circle_ring(coords[starts[i] : starts[i + 1] - 1], out, k)
+        k, polygon[i] = _circle_ring(coords[starts[i] : starts[i + 1] - 1], out, k, steps)
         if polygon[i]:
-            centroid[i] = _centroid(out[a:k])
+            centroid[i, 0], centroid[i, 1] = _centroid(out[a:k])
         out_starts[i + 1] = k
     return out[:k], out_starts, polygon, centroid
 
@@ -1577,6 +1773,7 @@ def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts, tri_found, 
     starts = np.zeros(n + 1, dtype=np.int64)
     polygon = np.zeros(n, dtype=np.bool_)
     centroid = np.zeros((n, 2))
+    steps = _circle_steps()
     k = 0
     t = 0
     for i in range(n):
@@ -1587,9 +1784,9 @@ def expected_outlines(rings, ring_starts, shape, tri_xy, tri_starts, tri_found, 
             polygon[i] = True
         elif shape[i] == CIRCLE:
             a = k
-            k, polygon[i] = _circle_ring(ring[:-1], out, k)
+            k, polygon[i] = _circle_ring(ring[:-1], out, k, steps)
             if polygon[i]:
-                centroid[i] = _centroid(out[a:k])
+                centroid[i, 0], centroid[i, 1] = _centroid(out[a:k])
         elif shape[i] == TRIANGLE and tri_found[t]:
             for j in range(4):
                 out[k + j, 0], out[k + j, 1] = tris[t, j % 3, 0], tris[t, j % 3, 1]
@@ -1624,7 +1821,7 @@ def _centroid(ring):
         gx += sign * a2 * tx
         gy += sign * a2 * ty
         total += sign * a2
-    return np.array([gx / 3 / total, gy / 3 / total])
+    return gx / 3 / total, gy / 3 / total
 
 
 @nb.njit(**_OPTS)

@@ -35,7 +35,7 @@ from .descriptors import (
     flatten_masks,
     polygons_from_rings,
 )
-from .records import Defect, new_defect
+from .records import Defect
 
 __all__ = ["DefectSettings", "expected_outline", "find_defects"]
 
@@ -219,20 +219,22 @@ def defect_arrays(
     labels: Sequence[str | None],
     settings: DefectSettings,
     extents: np.ndarray,
+    centres: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Defects of the objects of a measured batch, in arrays.
 
     ``extents``: ``(n, 4)`` the grid of each object in its mask's
-    coordinates (infinite: no edge). Returns what
+    coordinates (infinite: no edge); ``centres``: the hull rings of the
+    cores' pixel centres and their starts, if measured. Returns what
     :func:`~._geometry.defect_groups` returns: ``ints`` (object, code, area,
     box) and ``floats`` (centroid, depth), one row per defect.
     """
     s = settings
     flat, starts, heights, widths, filled, core = batch
     assert filled is not None and core is not None  # set by measure_batch_arrays
-    xy, out_starts, polygon, circles, code = _expected_rings(
-        *_centre_rings(batch._replace(mask=core)), labels
-    )
+    if centres is None:
+        centres = _centre_rings(batch._replace(mask=core))
+    xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels)
     cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
     kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
         xy, out_starts, polygon, code == geo.CIRCLE, cornered,
@@ -247,6 +249,49 @@ def defect_arrays(
     )  # fmt: skip
 
 
+#: The reason a defect of the kinds above gives: kind (spaced), centroid and note.
+REASON = "{} at ({:.1f}, {:.1f}): {}"
+
+_NAMES = {code: name for code, (name, _) in _KINDS.items()}
+_NOTES = {code: note for code, (_, note) in _KINDS.items()}
+_SPACED = {code: name.replace("_", " ") for code, name in _NAMES.items()}
+
+
+def _ordered_records(
+    ints: np.ndarray,
+    floats: np.ndarray,
+    tops: Sequence[int] | None,
+    lefts: Sequence[int] | None,
+) -> tuple[np.ndarray, np.ndarray, list[int], list[str], list[Defect], list[int]]:
+    """The defects of :func:`defect_arrays` in record order, as records.
+
+    Returns the ordered arrays, the defects' codes, notes and records, and
+    where each object's defects begin in them (with the end last).
+    """
+    if tops is None or lefts is None:
+        rows = cols = np.zeros(int(ints[:, 0].max()) + 1, dtype=np.int64)
+    else:
+        rows, cols = np.asarray(tops, dtype=np.int64), np.asarray(lefts, dtype=np.int64)
+    ints, floats = geo.ordered_defects(ints, floats, rows, cols)
+    codes = ints[:, 1].tolist()
+    sizes = ints[:, 2].tolist()
+    notes = list(map(str.format, map(_NOTES.__getitem__, codes), sizes))
+    records = []
+    new = object.__new__
+    for name, size, box, centre, depth, note in zip(
+        map(_NAMES.__getitem__, codes), sizes, map(tuple, ints[:, 3:7].tolist()),
+        map(tuple, floats[:, :2].tolist()), rounded(floats[:, 2], 3).tolist(), notes, strict=True,
+    ):  # fmt: skip
+        d = new(Defect)  # new_defect(...), without a call per defect
+        d.__dict__.update(
+            {"kind": name, "area": size, "bbox": box, "centroid": centre, "depth": depth,
+             "note": note}
+        )  # fmt: skip
+        records.append(d)
+    firsts = np.flatnonzero(np.diff(ints[:, 0], prepend=-1)).tolist()
+    return ints, floats, codes, notes, records, [*firsts, len(records)]
+
+
 def defect_records(
     ints: np.ndarray,
     floats: np.ndarray,
@@ -258,25 +303,46 @@ def defect_records(
     ``tops``, ``lefts``: rows and columns added to each object's defects'
     coordinates (as :meth:`Defect.shifted` would), default none.
     """
-    out: dict[int, list[Defect]] = {}
     if not ints.shape[0]:
-        return out
-    if tops is None or lefts is None:
-        rows = cols = np.zeros(int(ints[:, 0].max()) + 1, dtype=np.int64)
-    else:
-        rows, cols = np.asarray(tops, dtype=np.int64), np.asarray(lefts, dtype=np.int64)
-    ints, floats = geo.ordered_defects(ints, floats, rows, cols)
-    boxes = ints[:, 3:7].tolist()
-    centres = floats[:, :2].tolist()
-    depths = rounded(floats[:, 2], 3).tolist()
-    for i, code, size, box, centre, depth in zip(
-        ints[:, 0].tolist(), ints[:, 1].tolist(), ints[:, 2].tolist(), boxes, centres, depths,
-        strict=True,
-    ):  # fmt: skip
-        name, note = _KINDS[code]
-        d = new_defect(name, size, tuple(box), tuple(centre), depth, note.format(size))
-        out.setdefault(i, []).append(d)
-    return out
+        return {}
+    ints, _, _, _, records, bounds = _ordered_records(ints, floats, tops, lefts)
+    return {
+        i: records[a:b]
+        for i, a, b in zip(ints[bounds[:-1], 0].tolist(), bounds[:-1], bounds[1:], strict=True)
+    }
+
+
+def defect_fields(
+    ints: np.ndarray,
+    floats: np.ndarray,
+    tops: Sequence[int] | None = None,
+    lefts: Sequence[int] | None = None,
+) -> dict[int, tuple[int, int, tuple[Defect, ...], tuple[str, ...]]]:
+    """:func:`defect_records` as the fields of the objects' records, by object.
+
+    Each object with defects gets its number of holes, their area, its
+    defects and the reasons they give (:data:`REASON`), as an
+    :class:`~tentaclass.scanner.Inspection` holds them.
+    """
+    if not ints.shape[0]:
+        return {}
+    ints, floats, codes, notes, records, bounds = _ordered_records(ints, floats, tops, lefts)
+    reasons = list(
+        map(
+            REASON.format, map(_SPACED.__getitem__, codes), floats[:, 0].tolist(),
+            floats[:, 1].tolist(), notes,
+        )
+    )  # fmt: skip
+    starts = np.array(bounds[:-1])
+    hole = ints[:, 1] == geo.HOLE
+    holes = np.add.reduceat(hole.astype(np.int64), starts).tolist()
+    hole_area = np.add.reduceat(np.where(hole, ints[:, 2], 0), starts).tolist()
+    return {
+        i: (n_holes, area, tuple(records[a:b]), tuple(reasons[a:b]))
+        for i, n_holes, area, a, b in zip(
+            ints[starts, 0].tolist(), holes, hole_area, bounds[:-1], bounds[1:], strict=True
+        )
+    }
 
 
 def find_defects_many(

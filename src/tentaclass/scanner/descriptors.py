@@ -211,7 +211,8 @@ class Measures(NamedTuple):
     ``rings`` the hulls of the cores' pixel squares (closed, one after the
     other from ``ring_starts``); ``corners`` the minimum rotated rectangles
     ``(n, 5, 2)``; ``length``, ``width`` and ``orientation`` as in
-    :class:`Geometry`.
+    :class:`Geometry`; ``centres`` the hulls of the cores' pixel centres
+    (closed, one after the other from ``centre_starts``).
     """
 
     batch: MaskBatch
@@ -223,6 +224,8 @@ class Measures(NamedTuple):
     length: list[float]
     width: list[float]
     orientation: list[float]
+    centres: np.ndarray
+    centre_starts: np.ndarray
 
     def geometries(self) -> list[Geometry]:
         """One :class:`Geometry` per object (shapely hulls and rectangles built here)."""
@@ -251,9 +254,10 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
     # Thin burrs would stretch the hull: objects wide enough for an opening
     # (see opening_radius) are measured without what it removes, if that
     # sticks out of the opened shape's hull (skimage's disk(1): the 3 x 3 cross)
-    filled_flat, core_flat, coords, ring_starts, areas, sums, corners, long, short, edge = (
-        measure_cores(*batch[:4], float(_OPEN_WIDTH))
-    )
+    (
+        filled_flat, core_flat, coords, ring_starts, areas, sums, corners, long, short, edge,
+        centres, centre_starts,
+    ) = measure_cores(*batch[:4], float(_OPEN_WIDTH))  # fmt: skip
     # rows grow downwards, so the on-screen angle uses -dy
     angles = np.remainder(np.degrees(np.arctan2(-edge[:, 1], edge[:, 0])), 180.0)
     angles[angles > 180.0 - 1e-9] = 0.0
@@ -267,6 +271,8 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
         rounded(long, 9).tolist(),
         rounded(short, 9).tolist(),
         rounded(angles, 6).tolist(),
+        centres,
+        centre_starts,
     )
 
 

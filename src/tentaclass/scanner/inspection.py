@@ -12,10 +12,10 @@ from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
 from ..features.fourier import _blas_controller
 from ._rounding import rounded
-from .defects import DefectSettings, defect_arrays, defect_records
+from .defects import REASON, DefectSettings, defect_arrays, defect_fields, defect_records
 from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
 from .model import _ONE_THREAD_MIN_ROWS, ScannerModel, crop, default_model
-from .records import Defect, Inspection, new_inspection
+from .records import Defect, Inspection, ScannedObject, new_inspection
 
 __all__ = ["NominalSize", "inspect", "inspect_many"]
 
@@ -83,7 +83,7 @@ def _reason(d: Defect) -> str:
     r, c = d.centroid
     if d.kind in ("size", "too_tall", "broken"):
         return d.note
-    return f"{d.kind.replace('_', ' ')} at ({r:.1f}, {c:.1f}): {d.note}"
+    return REASON.format(d.kind.replace("_", " "), r, c, d.note)
 
 
 def _assemble(
@@ -193,7 +193,8 @@ def inspect_masks(
     extents: Sequence[tuple[float, float, float, float] | None] | np.ndarray | None = None,
     single: bool = False,
     flat: MaskBatch | None = None,
-) -> list[Inspection]:
+    scanned: tuple[int, list[int], list[int]] | None = None,
+) -> list[Any]:
     """Inspect validated, cropped object masks in one batch (one classifier call).
 
     Private kernel of :func:`inspect_many` and the line scanner; ``offsets``
@@ -202,7 +203,9 @@ def inspect_masks(
     grid (or the belt) in the same coordinates as the offsets (or an ``(n,
     4)`` array); ``single`` says each mask is known to be one 8-connected
     piece; ``flat``: the masks already in flat buffers (``masks`` are views of
-    it, or None: its views).
+    it, or None: its views); ``scanned``: the first id and the first and last
+    rows of the objects of a line scanner, whose records (ScannedObject) are
+    then returned (with ``single`` and no ``nominal_size``).
     """
     n = len(offsets)
     if not n:
@@ -233,10 +236,11 @@ def inspect_masks(
             dtype=float,
         ).reshape(n, 4)
     ints, floats = defect_arrays(
-        m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2)
-    )
-    found = defect_records(ints, floats, tops, lefts)
+        m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2),
+        (m.centres, m.centre_starts),
+    )  # fmt: skip
     if nominal_size is not None or not single:
+        found = defect_records(ints, floats, tops, lefts)
         defects = [found.get(i, []) for i in range(n)]
         centroids = (m.sums / m.area[:, None]).tolist()
         geoms = m.geometries()
@@ -258,14 +262,34 @@ def inspect_masks(
     cols = rounded(m.sums[:, 1] / m.area + off[:, 1], 6).tolist()
     centroids = list(zip(rows, cols, strict=True))
     fields: list[tuple[int, int, tuple[Defect, ...], tuple[str, ...]]] = [(0, 0, (), ())] * n
-    for i, listed in found.items():
-        fields[i] = _defect_fields(listed)
-    out = []
+    for i, f in defect_fields(ints, floats, tops, lefts).items():
+        fields[i] = f
+    out: list[Any] = []
     new = object.__new__
-    for label, p, box, area, centroid, angle, long, short, (holes, hole_area, listed, why) in zip(
+    columns = (
         labels, rounded(confidence, 6).tolist(), boxes, m.area.tolist(), centroids,
-        m.orientation, m.length, m.width, fields, strict=True,
-    ):  # fmt: skip
+        m.orientation, m.length, m.width, fields,
+    )  # fmt: skip
+    if scanned is not None:  # the scanner's records too, in the same pass
+        i = scanned[0]
+        for first, last, label, p, box, area, centroid, angle, long, short, (
+            holes, hole_area, listed, why,
+        ) in zip(scanned[1], scanned[2], *columns, strict=True):  # fmt: skip
+            r = new(Inspection)
+            r.__dict__.update(
+                {"label": label, "confidence": p, "bbox": box, "area": area,
+                 "centroid": centroid, "orientation": angle, "length": long, "width": short,
+                 "holes": holes, "hole_area": hole_area, "defects": listed,
+                 "accept": not listed, "reasons": why}
+            )  # fmt: skip
+            o = new(ScannedObject)
+            o.__dict__.update({"id": i, "first_row": first, "last_row": last, "inspection": r})
+            out.append(o)
+            i += 1
+        return out
+    for label, p, box, area, centroid, angle, long, short, (holes, hole_area, listed, why) in zip(
+        *columns, strict=True
+    ):
         r = new(Inspection)  # new_inspection(...), without a call per object
         r.__dict__.update(
             {"label": label, "confidence": p, "bbox": box, "area": area, "centroid": centroid,

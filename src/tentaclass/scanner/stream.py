@@ -572,10 +572,18 @@ class LineScanner:
             batch = MaskBatch(*seg.paint_all(done, runs))
             # The belt's side edges cut objects; along the belt, only the stream's start does.
             belt = np.array([0.0, 0.0, np.inf, float(self.width)])
-            inspections = inspect_masks(
+            scanned = None
+            if self.nominal_size is None and whole.all():  # the records in one pass
+                scanned = (self.n_emitted, out[:, 1].tolist(), out[:, 2].tolist())
+            records = inspect_masks(
                 None, done[:, [1, 3]], self.model, self.settings, self.nominal_size,
                 self.size_tolerance, np.tile(belt, (done.shape[0], 1)), single=True, flat=batch,
+                scanned=scanned,
             )  # fmt: skip
+            if scanned is not None:
+                self.n_emitted += len(records)
+                return records
+            inspections = records
         if not whole.all():
             cut = out[~whole]
             flat, starts, heights, widths = seg.paint_all(cut, runs)
