@@ -21,7 +21,8 @@ each, started with OMP/MKL/OPENBLAS_NUM_THREADS=1 (distributed's default
 ``pre-spawn-environ``), glibc's malloc thresholds at 32 MiB and Dask's
 periodic bookkeeping turned down; the driver's BLAS is pinned to one thread
 with threadpoolctl. ``--compare`` also runs every job as before ("defaults":
-Dask's own cluster settings, one block per row group), one setup's clusters
+Dask's own cluster settings, one block per row group, each handed whole to
+the classifier), one setup's clusters
 after the other's in each repeat, so that the overhead of the two can be
 compared in one run.
 
@@ -205,6 +206,13 @@ class RssMonitor:
         )
 
 
+def _whole_blocks() -> None:
+    """A row-wise function gets each block whole, as before blocks were sliced."""
+    import tentaclass._dask
+
+    tentaclass._dask.SLICE_BYTES = 2**62
+
+
 def make_cluster(k: int, setup: str) -> LocalCluster:
     """The cluster of ``--scheduler local`` ("tuned"), or one with Dask's own settings."""
     if setup == "tuned":
@@ -228,7 +236,8 @@ def main() -> None:
     ap.add_argument(
         "--compare", action="store_true",
         help="also run every job as before: Dask's own cluster settings, one block per "
-        "row group (each repeat: one setup's clusters, then the other's)",
+        "row group, blocks handed whole to the classifier (each repeat: one setup's "
+        "clusters, then the other's)",
     )  # fmt: skip
     ap.add_argument("--jobs", nargs="+", default=None, help="a subset of the jobs, by name")
     ap.add_argument("--workdir", type=Path, default=Path(tempfile.gettempdir()) / "tc-bench-dask")
@@ -302,6 +311,8 @@ def main() -> None:
                 cluster = make_cluster(k, setup)
                 client = Client(cluster)
                 client.run(lambda: __import__("tentaclass.cli.main"))
+                if setup == "defaults":
+                    client.run(_whole_blocks)
                 clusters[k] = (cluster, client)
                 # compile the wrap kernel and load everything once on every worker
                 client.compute(
