@@ -128,13 +128,7 @@ def _as_dask_array(x: Any) -> Any:
 
 
 class _Blocks:
-    """The per-block call: the function on slices of one block, or empty outputs for an empty block.
-
-    A block is handed to the function in slices of about :data:`SLICE_BYTES`
-    along its first axis, the outputs joined: the function's temporaries for a
-    slice stay in the core's cache, and a worker holds them for one slice
-    at a time.
-    """
+    """The per-block call: the function on one block (:func:`in_slices`), or empty outputs."""
 
     def __init__(self, func: Callable, metas: tuple[np.ndarray, ...], single: bool):
         self.func, self.metas, self.single = func, metas, single
@@ -142,18 +136,34 @@ class _Blocks:
     def __call__(self, block: np.ndarray) -> Any:
         if block.size == 0:
             out = tuple(np.empty(block.shape[:-1] + m.shape[1:], m.dtype) for m in self.metas)
-        elif block.ndim < 2:
-            out = self.func(block)
         else:
-            step = max(SLICE_MIN_ROWS, SLICE_BYTES // max(block[:1].nbytes, 1))
-            parts = [self.func(block[i : i + step]) for i in range(0, len(block), step)]
-            if len(parts) == 1:
-                out = parts[0]
-            elif isinstance(parts[0], tuple):
-                out = tuple(np.concatenate(p) for p in zip(*parts, strict=True))
-            else:
-                out = np.concatenate(parts)
+            out = in_slices(self.func, block)
         return out[0] if self.single and isinstance(out, tuple) else out
+
+
+def in_slices(func: Callable[[np.ndarray], Any], block: np.ndarray) -> Any:
+    """``func(block)`` computed on slices of ``block``'s first axis, the outputs joined.
+
+    Slices of about :data:`SLICE_BYTES` (at least :data:`SLICE_MIN_ROWS` rows):
+    the function's temporaries for a slice stay in the core's cache and are
+    held for one slice at a time. ``func`` must act on each row independently
+    and return an array or a tuple of arrays with rows first.
+
+    Examples
+    --------
+    >>> x = np.arange(2 * 10**5, dtype=float).reshape(-1, 2)
+    >>> bool((in_slices(lambda b: b.sum(axis=1), x) == x.sum(axis=1)).all())
+    True
+    """
+    if block.ndim < 2:
+        return func(block)
+    step = max(SLICE_MIN_ROWS, SLICE_BYTES // max(block[:1].nbytes, 1))
+    parts = [func(block[i : i + step]) for i in range(0, len(block), step)]
+    if len(parts) == 1:
+        return parts[0]
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(p) for p in zip(*parts, strict=True))
+    return np.concatenate(parts)
 
 
 def apply_rows(func: Callable[[np.ndarray], Any], x: Any, name: str = "rows") -> Any:

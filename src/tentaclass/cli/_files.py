@@ -9,6 +9,7 @@ jobs run here or on a Dask cluster (:func:`tentaclass._dask.map_files`).
 from __future__ import annotations
 
 import contextlib
+import functools
 import glob
 import json
 from collections import Counter
@@ -18,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._dask import atomic_output
+from .._dask import atomic_output, in_slices
 from .._lazy import import_extra
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
@@ -118,7 +119,8 @@ def classify_file(src: Path, dst: Path, model: Any, n_joints: int | None) -> int
     with atomic_output(dst, "wb") as fh, contextlib.ExitStack() as stack:
         for X in angle_blocks(src):
             _check_block(src, X, n_joints, done)
-            table = classification_table(*predict_with_proba(model, X), model.classes_)
+            labels, proba = in_slices(functools.partial(predict_with_proba, model), X)
+            table = classification_table(labels, proba, model.classes_)
             table["index"] = table["index"] + done
             batch = pa.table(table)
             if writer is None:
