@@ -10,7 +10,7 @@ Three jobs, each timed on both clusters in turn (min of interleaved repeats):
   (``read_parquet_rows`` -> ``FourierClassifier.predict`` on the dask array
   -> class counts, as one reduction per class, and as one reduction of all
   the counts: "predict, one count", one task per block of four row groups).
-  The peak RSS of every worker process is sampled every 50 ms (workers that
+  The peak RSS of every worker process is sampled every 0.1 s (workers that
   have run every job; ``bench_dask_memory.py`` measures the predict job alone
   on fresh workers);
 - scanning belts: ``scan --files`` over 20 belt PBM files.
@@ -122,7 +122,7 @@ def _transitions(dask_scheduler) -> int:
 
 
 class RssMonitor:
-    """Peak resident memory of the worker processes (sampled every 50 ms), and the CPU split.
+    """Peak resident memory of the worker processes (every 0.1 s; USS every 2 s), and the CPU split.
 
     CPU (user + system seconds) of the worker processes, and of this driver
     process by thread: its event loop ("loop": the scheduler, the client's
@@ -168,7 +168,7 @@ class RssMonitor:
             for p in self.procs:
                 try:
                     rss.append(p.memory_info().rss)
-                    if tick % 10 == 0:  # unique pages: slower to read, every 0.5 s
+                    if tick % 20 == 0:  # unique pages: slower to read, every 2 s
                         uss.append(p.memory_full_info().uss)
                 except psutil.Error:
                     pass
@@ -178,7 +178,7 @@ class RssMonitor:
             if uss:
                 self.peak_uss = max(self.peak_uss, sum(uss))
             tick += 1
-            time.sleep(0.05)
+            time.sleep(0.1)
         self.sampler_cpu = time.thread_time() - start
 
     def _cpu(self) -> float:
