@@ -421,8 +421,12 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
     :func:`block_seeds` seed, so the result depends on the seed and the
     chunks, never on the workers.
     """
+    import operator
+
     import dask
     import dask.array as da
+    from dask.base import tokenize
+    from dask.highlevelgraph import HighLevelGraph
 
     n = int(n_links)
     params = [link_length, starts, offset]
@@ -458,18 +462,26 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
             rows = list(outlines[a:b]) if many else outlines
             blocks.append((rows, [c[i] for c in cut], b - a))
     seeds = block_seeds(seed, len(blocks)) if kwargs.get("noise", 0) > 0 else [None] * len(blocks)
-    fields: dict[str, list] = {k: [] for k in _WRAP_FIELDS}
     run = dask.delayed(_wrap_block, pure=True)
-    for (rows, ps, count), s in zip(blocks, seeds, strict=True):
-        res = run(wrap_many, rows, n, kwargs, s, *ps)
-        for k, (core, dt) in _WRAP_FIELDS.items():
-            shape = (np.nan if count is None else count, *core(n))
-            fields[k].append(
-                da.from_delayed(res[k], shape=shape, dtype=dt, meta=np.empty((0,) * len(shape), dt))
-            )
+    results = [run(wrap_many, rows, n, kwargs, s, *ps)
+               for (rows, ps, _), s in zip(blocks, seeds, strict=True)]  # fmt: skip
+    rows_per_block = tuple(np.nan if count is None else count for _, _, count in blocks)
+    token = tokenize([r.key for r in results])
+    fields: dict[str, Any] = {}
+    for k, (core, dt) in _WRAP_FIELDS.items():
+        # each field's block i is item k of block i's result: one small task per block,
+        # built here without a delayed object (and its token) per field and block
+        name = f"wrap-{k}-{token}"
+        inner = (0,) * len(core(n))
+        layer: dict[Any, Any] = {
+            (name, i, *inner): (operator.getitem, r.key, k) for i, r in enumerate(results)
+        }
+        graph = HighLevelGraph.from_collections(name, layer, dependencies=results)
+        chunks = (rows_per_block, *((c,) for c in core(n)))
+        fields[k] = da.Array(graph, name, chunks, meta=np.empty((0,) * len(chunks), dt))
     from .wrapping import WrapBatch
 
-    batch = WrapBatch(**{k: da.concatenate(v, axis=0) for k, v in fields.items()})
+    batch = WrapBatch(**fields)
     object.__setattr__(batch, "_link_length", link_length)
     object.__setattr__(batch, "_direction", kwargs.get("direction", "ccw"))
     return batch
