@@ -14,7 +14,7 @@ one line each:
 - :func:`wrap_blocks` runs :func:`tentaclass.wrap_many` once per chunk of its
   parameter arrays (or per partition of a bag of outlines);
 - :func:`read_parquet_rows` reads Parquet files as a dask array, one block
-  per row group, with pyarrow alone in the tasks (no pandas, no dask.dataframe);
+  per few row groups, with pyarrow alone in the tasks (no pandas, no dask.dataframe);
 - :func:`scheduler` opens a client (a ``LocalCluster`` or a running
   scheduler) for the command line; :func:`map_files` runs one job per input
   file on it, each writing its output under a temporary name that is renamed
@@ -86,10 +86,10 @@ WORKER_MALLOC = {"MALLOC_TRIM_THRESHOLD_": 32 * 2**20, "MALLOC_MMAP_THRESHOLD_":
 #: Dask's defaults suit a long-lived cluster watched from its dashboard: every worker
 #: samples its own stack every 10 ms (the profiler), every event loop checks
 #: itself every 20 ms, each nanny reads its worker's memory every 100 ms, the
-#: scheduler's system monitor runs every 0.5 s and work stealing every 0.1 s. On
+#: scheduler's system monitor runs every 0.5 s and work stealing every second. On
 #: two cores that costs 26 ms of CPU per second in the driver (client, scheduler,
-#: nannies) and 20 ms per second in each idle worker, taken from the tasks; with
-#: these settings 5 and 3 ms. The tasks of this package are uniform blocks,
+#: nannies) and 20 ms per second in each idle worker of a 2-worker cluster, taken
+#: from the tasks; with these settings 5 and 3 ms. The tasks of this package are uniform blocks,
 #: queued on the scheduler (``worker-saturation``) and handed out one by one, so
 #: stealing has nothing to balance.
 LOCAL_CONFIG = {
