@@ -3,9 +3,9 @@
 The job as a user runs it, in a fresh process: load a saved model
 (``tentaclass.load_model``), start the ``LocalCluster`` of 2 single-threaded
 worker processes that ``--scheduler local`` starts, read the Parquet files
-with ``tentaclass.read_parquet_rows`` (one block per row group of 65 536
-arrays, read with pyarrow in the tasks, in the same task as ``model.predict``
-on the dask array), count the labels per class. Nothing else
+with ``tentaclass.read_parquet_rows`` (one block per four row groups of 65 536
+arrays, read one row group at a time with pyarrow in the same task as
+``model.predict`` on the dask array), count the labels per class. Nothing else
 is loaded on the workers: they import what unpickling the tasks needs
 (the model's classes, numpy, pyarrow) and nothing more.
 

@@ -9,6 +9,7 @@ jobs run here or on a Dask cluster (:func:`tentaclass._dask.map_files`).
 from __future__ import annotations
 
 import contextlib
+import functools
 import glob
 import json
 from collections import Counter
@@ -18,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .._dask import atomic_output
+from .._dask import atomic_output, in_slices
 from .._lazy import import_extra
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
@@ -150,7 +151,8 @@ def classify_file(src: Path, dst: Path, models: dict[int, Any]) -> int:
     with atomic_output(dst, "wb") as fh, contextlib.ExitStack() as stack:
         for X in angle_blocks(src) if n_joints is not None else ():
             _check_block(src, X, int(model.n_features_in_), done)
-            table = classification_table(*predict_with_proba(model, X), model.classes_)
+            labels, proba = in_slices(functools.partial(predict_with_proba, model), X)
+            table = classification_table(labels, proba, model.classes_)
             table["index"] = table["index"] + done
             batch = pa.table(table)
             if writer is None:
