@@ -1,10 +1,20 @@
-"""The compiled crossing tests of the walk against shapely and against each other."""
+"""The compiled geometric tests of the walk against shapely and against each other."""
 
 import numpy as np
 import shapely
 from test_wrap import star
 
-from tentaclass.wrapping._geom import crosses, crosses_boxed, edge_boxes, enters_convex
+from tentaclass.wrapping._geom import (
+    crosses,
+    crosses_boxed,
+    crossing_edge,
+    crossing_edge_boxed,
+    edge_boxes,
+    enters_convex,
+    inside,
+    inside_boxed,
+    outline_distances,
+)
 
 
 def random_segments(rng, n, lo, hi):
@@ -38,3 +48,31 @@ def test_entering_a_convex_polygon_agrees_with_shapely(rng):
     assert not enters_convex(*a, *b, hull, 1e-12)
     assert not enters_convex(*(2 * a - b), *a, hull, 1e-12)
     assert enters_convex(*a, *hull[2], hull, 1e-12)
+
+
+def test_blocked_crossing_edge_and_inside_agree_with_the_plain_ones(rng):
+    outline = star(50, 1.0, 2.0, 0.1)
+    boxes = edge_boxes(outline)
+    eps = 1e-12 * 4.0**2
+    segs = random_segments(rng, 2000, -2.5, 2.5)
+    plain = [crossing_edge(*a, *b, outline, eps) for a, b in segs]
+    boxed = [crossing_edge_boxed(*a, *b, outline, eps, boxes) for a, b in segs]
+    assert plain == boxed  # the same (first) edge, not just the same verdict
+    pts = rng.uniform(-2.5, 2.5, (2000, 2))
+    pts[:100] = outline[rng.integers(0, len(outline), 100)]  # on the outline: not inside
+    r = np.sqrt(eps)
+    got = [inside_boxed(x, y, outline, r, boxes) for x, y in pts]
+    assert got == [inside(x, y, outline, r) for x, y in pts]
+    want = shapely.contains_xy(shapely.Polygon(outline).buffer(-1e-5), pts[:, 0], pts[:, 1])
+    assert not any(got[:100])
+    np.testing.assert_array_equal(np.array(got)[100:], want[100:])
+
+
+def test_outline_distances_equal_shapely_bit_for_bit(rng):
+    outline = star(40, 1.0, 2.0, 0.1)
+    outline[5] = outline[4]  # a zero-length edge
+    pts = np.concatenate([rng.uniform(-3, 3, (1500, 2)), outline, 0.5 * (outline + outline[0])])
+    got = outline_distances(pts, outline, edge_boxes(outline))
+    want = shapely.distance(shapely.LinearRing(outline), shapely.points(pts))
+    np.testing.assert_array_equal(got, want)
+    assert np.sum(got == 0) >= len(outline)

@@ -124,8 +124,12 @@ def edge_boxes(obj):
 
 
 @nb.njit(cache=True)
-def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
-    """:func:`crosses`, testing only the blocks of edges whose box meets the segment's."""
+def crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes):
+    """:func:`crossing_edge`, testing only the blocks of edges whose box meets the segment's.
+
+    The same edge as :func:`crossing_edge`: a block whose box misses the
+    segment's holds no edge that the plain test would examine.
+    """
     m = obj.shape[0]
     lox, hix = min(ax, bx), max(ax, bx)
     loy, hiy = min(ay, by), max(ay, by)
@@ -133,9 +137,16 @@ def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
         if boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy:
             continue
         first = b * BOX_EDGES
-        if crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first)) >= 0:
-            return True
-    return False
+        e = crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first))
+        if e >= 0:
+            return e
+    return -1
+
+
+@nb.njit(cache=True)
+def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
+    """:func:`crosses`, testing only the blocks of edges whose box meets the segment's."""
+    return crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes) >= 0
 
 
 @nb.njit(cache=True)
@@ -202,13 +213,13 @@ def _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, tip_on, angs,
 
 
 @nb.njit(cache=True)
-def free_direction(ax, ay, ux, uy, ln, obj, eps):
+def free_direction(ax, ay, ux, uy, ln, obj, eps, boxes):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
     The link pivots on ``a`` and stops where it first rests on the object:
     on an outline vertex within its length (tip in the air) or with its tip on
     an edge. Candidates are tried from the least rotation on. Returns
-    ``(found, tip_x, tip_y, tip_on_outline)``.
+    ``(found, tip_x, tip_y, tip_on_outline)``. ``boxes``: :func:`edge_boxes` of ``obj``.
     """
     m = obj.shape[0]
     angs = np.empty(3 * m)
@@ -224,7 +235,7 @@ def free_direction(ax, ay, ux, uy, ln, obj, eps):
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
             continue
-        if crossing_edge(ax, ay, px[t], py[t], obj, eps) < 0:
+        if crossing_edge_boxed(ax, ay, px[t], py[t], obj, eps, boxes) < 0:
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
 
@@ -275,6 +286,47 @@ def inside(x, y, obj, eps):
 
 
 @nb.njit(cache=True)
+def inside_boxed(x, y, obj, eps, boxes):
+    """:func:`inside`, visiting only the blocks of edges that can decide it.
+
+    A block wholly above or below the point flips no crossing parity, and one
+    further than ``2 eps`` from it holds no edge within ``eps``.
+    """
+    m = obj.shape[0]
+    wn = False
+    for b in range(boxes.shape[0]):
+        if boxes[b, 2] > y or boxes[b, 3] <= y:
+            continue
+        lo = b * BOX_EDGES
+        for i in range(lo, min(lo + BOX_EDGES, m)):
+            i2 = i + 1 if i + 1 < m else 0
+            x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
+            if (y0 > y) != (y1 > y):
+                if x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+                    wn = not wn
+    if not wn:
+        return False
+    far = 4.0 * eps * eps
+    for b in range(boxes.shape[0]):
+        gx = max(boxes[b, 0] - x, x - boxes[b, 1], 0.0)
+        gy = max(boxes[b, 2] - y, y - boxes[b, 3], 0.0)
+        if gx * gx + gy * gy > far:
+            continue
+        lo = b * BOX_EDGES
+        for i in range(lo, min(lo + BOX_EDGES, m)):
+            i2 = i + 1 if i + 1 < m else 0
+            x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
+            dx, dy = x1 - x0, y1 - y0
+            A = dx * dx + dy * dy
+            t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
+            t = min(max(t, 0.0), 1.0)
+            d = (x0 + t * dx - x) ** 2 + (y0 + t * dy - y) ** 2
+            if not d > eps * eps:
+                return False
+    return True
+
+
+@nb.njit(cache=True)
 def enters_convex(ax, ay, bx, by, hull, eps):
     """True if segment a-b has points inside the convex ccw polygon ``hull``.
 
@@ -308,21 +360,21 @@ def enters_convex(ax, ay, bx, by, hull, eps):
 
 
 @nb.njit(cache=True)
-def blocked(ax, ay, bx, by, obj, eps, joints, last):
+def blocked(ax, ay, bx, by, obj, eps, joints, last, boxes):
     """True if segment a-b enters the object or crosses one of the first ``last`` links.
 
     No cap allowance: a segment between two points of the outline through the
-    object's inside is blocked.
+    object's inside is blocked. ``boxes``: :func:`edge_boxes` of ``obj``.
     """
-    if crossing_edge(ax, ay, bx, by, obj, eps) >= 0:
+    if crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes) >= 0:
         return True
     if crossing_link(ax, ay, bx, by, joints, last, eps) >= 0:
         return True
-    return inside(0.5 * (ax + bx), 0.5 * (ay + by), obj, np.sqrt(eps))
+    return inside_boxed(0.5 * (ax + bx), 0.5 * (ay + by), obj, np.sqrt(eps), boxes)
 
 
 @nb.njit(cache=True)
-def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
+def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, boxes):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
     The link pivots on ``a`` and stops where it first rests on the object or on
@@ -367,6 +419,61 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
             continue
-        if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last):
+        if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last, boxes):
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
+
+
+@nb.njit(cache=True, inline="always")
+def _point_segment_distance(x, y, ax, ay, bx, by):
+    """Distance from ``(x, y)`` to segment a-b, computed as GEOS computes it (same roundings)."""
+    if ax == bx and ay == by:
+        return np.sqrt((x - ax) * (x - ax) + (y - ay) * (y - ay))
+    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    r = ((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / len2
+    if r <= 0.0:
+        return np.sqrt((x - ax) * (x - ax) + (y - ay) * (y - ay))
+    if r >= 1.0:
+        return np.sqrt((x - bx) * (x - bx) + (y - by) * (y - by))
+    s = ((ay - y) * (bx - ax) - (ax - x) * (by - ay)) / len2
+    return abs(s) * np.sqrt(len2)
+
+
+@nb.njit(cache=True)
+def outline_distances(points, obj, boxes):
+    """Distance from each point to the closed polyline ``obj`` (``boxes``: :func:`edge_boxes`).
+
+    The least distance to any edge, each edge's distance rounded as GEOS
+    rounds it, so that the values equal shapely's ``distance`` to the ring.
+    Blocks of edges whose box lies further than the best distance so far are
+    passed over; the search starts at the block nearest the previous point.
+    """
+    m = obj.shape[0]
+    nb_ = boxes.shape[0]
+    ext = 0.0
+    for b in range(nb_):
+        ext = max(ext, abs(boxes[b, 0]), abs(boxes[b, 1]), abs(boxes[b, 2]), abs(boxes[b, 3]))
+    out = np.empty(points.shape[0])
+    hint = 0
+    for q in range(points.shape[0]):
+        x, y = points[q, 0], points[q, 1]
+        best = np.inf
+        first = hint
+        for step in range(nb_):
+            b = first + step
+            if b >= nb_:
+                b -= nb_
+            gx = max(boxes[b, 0] - x, x - boxes[b, 1], 0.0)
+            gy = max(boxes[b, 2] - y, y - boxes[b, 3], 0.0)
+            # a box further than the best (beyond rounding) holds no nearer edge
+            if np.sqrt(gx * gx + gy * gy) > best + 1e-9 * (best + ext):
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                d = _point_segment_distance(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])
+                if d < best:
+                    best = d
+                    hint = b
+        out[q] = best
+    return out
