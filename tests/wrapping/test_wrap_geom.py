@@ -13,6 +13,7 @@ from tentaclass.wrapping._geom import (
     enters_convex,
     inside,
     inside_boxed,
+    locate,
     outline_distances,
 )
 
@@ -76,3 +77,21 @@ def test_outline_distances_equal_shapely_bit_for_bit(rng):
     want = shapely.distance(shapely.LinearRing(outline), shapely.points(pts))
     np.testing.assert_array_equal(got, want)
     assert np.sum(got == 0) >= len(outline)
+
+
+def test_locate_finds_the_first_nearest_edge_of_a_plain_scan(rng):
+    curve = star(60, 1.0, 2.0, 0.1)
+    mids = 0.5 * (curve + np.roll(curve, 1, 0))
+    pts = np.concatenate([rng.uniform(-3, 3, (500, 2)), curve, mids])
+    e, t, p = locate(pts, curve)
+    a, b = curve, np.roll(curve, -1, axis=0)
+    d = b - a
+    A = np.sum(d * d, axis=1)
+    x, y = pts[:, None, 0], pts[:, None, 1]
+    tt = np.clip(((x - a[:, 0]) * d[:, 0] + (y - a[:, 1]) * d[:, 1]) / A, 0, 1)
+    cx, cy = a[:, 0] + tt * d[:, 0], a[:, 1] + tt * d[:, 1]
+    want = np.argmin((cx - x) ** 2 + (cy - y) ** 2, axis=1)  # the first of equal ones
+    np.testing.assert_array_equal(e, want)
+    rows = np.arange(len(pts))
+    np.testing.assert_array_equal(t, tt[rows, want])
+    np.testing.assert_array_equal(p, np.stack([cx[rows, want], cy[rows, want]], axis=1))

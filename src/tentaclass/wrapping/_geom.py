@@ -149,31 +149,68 @@ def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
     return crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes) >= 0
 
 
+@nb.njit(cache=True, inline="always")
+def _box_gap2(boxes, b, x, y):
+    """Squared distance from ``(x, y)`` to box ``b`` of ``boxes`` (0 inside it)."""
+    gx = max(boxes[b, 0] - x, x - boxes[b, 1], 0.0)
+    gy = max(boxes[b, 2] - y, y - boxes[b, 3], 0.0)
+    return gx * gx + gy * gy
+
+
+@nb.njit(cache=True, inline="always")
+def _foot(x, y, x0, y0, x1, y1):
+    """Nearest point of segment ``(x0, y0)-(x1, y1)`` to ``(x, y)``: ``(t, cx, cy, d^2)``."""
+    dx, dy = x1 - x0, y1 - y0
+    A = dx * dx + dy * dy
+    t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
+    t = min(max(t, 0.0), 1.0)
+    cx, cy = x0 + t * dx, y0 + t * dy
+    return t, cx, cy, (cx - x) ** 2 + (cy - y) ** 2
+
+
 @nb.njit(cache=True)
 def locate(points, curve):
     """Nearest point on the closed polyline ``curve`` to each of ``points``.
 
-    Returns edge index, parameter on the edge and the point, per input point.
+    Returns edge index, parameter on the edge and the point, per input point:
+    the first edge (in order) at the least distance. The edges go by in
+    blocks (:func:`edge_boxes`); a block further from the point than the
+    nearest edge of the block nearest to it (beyond rounding) is passed over.
     """
     b = points.shape[0]
     m = curve.shape[0]
+    boxes = edge_boxes(curve)
+    nb_ = boxes.shape[0]
+    ext = 0.0
+    for k in range(nb_):
+        ext = max(ext, abs(boxes[k, 0]), abs(boxes[k, 1]), abs(boxes[k, 2]), abs(boxes[k, 3]))
     es = np.empty(b, np.int64)
     ts = np.empty(b)
     out = np.empty((b, 2))
     for q in range(b):
-        best = np.inf
-        for i in range(m):
+        qx, qy = points[q, 0], points[q, 1]
+        near, gap = 0, np.inf
+        for k in range(nb_):
+            g = _box_gap2(boxes, k, qx, qy)
+            if g < gap:
+                near, gap = k, g
+        # a bound on the least distance: the nearest edge of the nearest block
+        bound = np.inf
+        for i in range(near * BOX_EDGES, min(near * BOX_EDGES + BOX_EDGES, m)):
             i2 = i + 1 if i + 1 < m else 0
-            x0, y0 = curve[i, 0], curve[i, 1]
-            dx, dy = curve[i2, 0] - x0, curve[i2, 1] - y0
-            A = dx * dx + dy * dy
-            t = ((points[q, 0] - x0) * dx + (points[q, 1] - y0) * dy) / A if A > 0 else 0.0
-            t = min(max(t, 0.0), 1.0)
-            cx, cy = x0 + t * dx, y0 + t * dy
-            d = (cx - points[q, 0]) ** 2 + (cy - points[q, 1]) ** 2
-            if d < best:
-                best = d
-                es[q], ts[q], out[q, 0], out[q, 1] = i, t, cx, cy
+            d = _foot(qx, qy, curve[i, 0], curve[i, 1], curve[i2, 0], curve[i2, 1])[3]
+            bound = min(bound, d)
+        reach = np.sqrt(bound) + 1e-9 * (np.sqrt(bound) + ext)
+        best = np.inf
+        for k in range(nb_):
+            if _box_gap2(boxes, k, qx, qy) > reach * reach:
+                continue
+            for i in range(k * BOX_EDGES, min(k * BOX_EDGES + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                t, cx, cy, d = _foot(qx, qy, curve[i, 0], curve[i, 1], curve[i2, 0], curve[i2, 1])
+                if d < best:
+                    best = d
+                    es[q], ts[q], out[q, 0], out[q, 1] = i, t, cx, cy
     return es, ts, out
 
 
@@ -212,6 +249,31 @@ def _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, tip_on, angs,
     return c
 
 
+#: Relative margin (on squared distances) by which a block of edges must lie
+#: beyond a link's reach for the candidates of a turning link to skip it.
+_REACH_MARGIN = 1e-4
+
+
+@nb.njit(cache=True)
+def _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, c):
+    """:func:`_rest_candidates` of every outline vertex and edge, in order; returns the count.
+
+    Blocks of edges whose box lies beyond the link's reach offer none and are
+    skipped (``boxes``: :func:`edge_boxes` of ``obj``).
+    """
+    m = obj.shape[0]
+    far = ln * ln * (1.0 + _REACH_MARGIN)
+    for b in range(boxes.shape[0]):
+        if _box_gap2(boxes, b, ax, ay) > far:
+            continue
+        lo = b * BOX_EDGES
+        for i in range(lo, min(lo + BOX_EDGES, m)):
+            i2 = i + 1 if i + 1 < m else 0
+            c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1],
+                                 True, True, angs, px, py, on, c)  # fmt: skip
+    return c
+
+
 @nb.njit(cache=True)
 def free_direction(ax, ay, ux, uy, ln, obj, eps, boxes):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
@@ -226,11 +288,7 @@ def free_direction(ax, ay, ux, uy, ln, obj, eps, boxes):
     px = np.empty(3 * m)
     py = np.empty(3 * m)
     on = np.zeros(3 * m, np.bool_)
-    c = 0
-    for i in range(m):
-        i2 = i + 1 if i + 1 < m else 0
-        c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1],
-                             True, True, angs, px, py, on, c)  # fmt: skip
+    c = _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, 0)
     order = np.argsort(-angs[:c])
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
@@ -308,19 +366,12 @@ def inside_boxed(x, y, obj, eps, boxes):
         return False
     far = 4.0 * eps * eps
     for b in range(boxes.shape[0]):
-        gx = max(boxes[b, 0] - x, x - boxes[b, 1], 0.0)
-        gy = max(boxes[b, 2] - y, y - boxes[b, 3], 0.0)
-        if gx * gx + gy * gy > far:
+        if _box_gap2(boxes, b, x, y) > far:
             continue
         lo = b * BOX_EDGES
         for i in range(lo, min(lo + BOX_EDGES, m)):
             i2 = i + 1 if i + 1 < m else 0
-            x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
-            dx, dy = x1 - x0, y1 - y0
-            A = dx * dx + dy * dy
-            t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
-            t = min(max(t, 0.0), 1.0)
-            d = (x0 + t * dx - x) ** 2 + (y0 + t * dy - y) ** 2
+            d = _foot(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])[3]
             if not d > eps * eps:
                 return False
     return True
@@ -391,21 +442,13 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, boxes):
     px = np.empty(size)
     py = np.empty(size)
     on = np.zeros(size, np.bool_)
-    c = 0
-    for src in range(2):
-        cnt = m if src == 0 else last + 1
-        for i in range(cnt):
-            if src == 0:
-                x0, y0 = obj[i, 0], obj[i, 1]
-                i2 = i + 1 if i + 1 < m else 0
-                x1, y1 = obj[i2, 0], obj[i2, 1]
-                has_edge = True
-            else:
-                x0, y0 = joints[i, 0], joints[i, 1]
-                has_edge = i < last
-                x1, y1 = (joints[i + 1, 0], joints[i + 1, 1]) if has_edge else (x0, y0)
-            c = _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, src == 0,
-                                 angs, px, py, on, c)  # fmt: skip
+    c = _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, 0)
+    for i in range(last + 1):
+        x0, y0 = joints[i, 0], joints[i, 1]
+        has_edge = i < last
+        x1, y1 = (joints[i + 1, 0], joints[i + 1, 1]) if has_edge else (x0, y0)
+        c = _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, False,
+                             angs, px, py, on, c)  # fmt: skip
     # directions every 1/128 turn: the link free in the air
     r = np.hypot(ux, uy)
     for s in range(1, 65):
@@ -463,10 +506,8 @@ def outline_distances(points, obj, boxes):
             b = first + step
             if b >= nb_:
                 b -= nb_
-            gx = max(boxes[b, 0] - x, x - boxes[b, 1], 0.0)
-            gy = max(boxes[b, 2] - y, y - boxes[b, 3], 0.0)
             # a box further than the best (beyond rounding) holds no nearer edge
-            if np.sqrt(gx * gx + gy * gy) > best + 1e-9 * (best + ext):
+            if np.sqrt(_box_gap2(boxes, b, x, y)) > best + 1e-9 * (best + ext):
                 continue
             lo = b * BOX_EDGES
             for i in range(lo, min(lo + BOX_EDGES, m)):

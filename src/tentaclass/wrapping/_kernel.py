@@ -20,6 +20,7 @@ import numpy as np
 
 from ._geom import (
     TWO_PI,
+    _foot,
     _near,
     crosses,
     crosses_boxed,
@@ -351,13 +352,7 @@ def _relocate(x, y, k, j, px, py, pts, off, es):
     for e in range(m):
         i0 = o + e
         i1 = o + (e + 1) % m
-        x0, y0 = pts[i0, 0], pts[i0, 1]
-        dx, dy = pts[i1, 0] - x0, pts[i1, 1] - y0
-        A = dx * dx + dy * dy
-        t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
-        t = min(max(t, 0.0), 1.0)
-        cx, cy = x0 + t * dx, y0 + t * dy
-        d = (cx - x) ** 2 + (cy - y) ** 2
+        _, cx, cy, d = _foot(x, y, pts[i0, 0], pts[i0, 1], pts[i1, 0], pts[i1, 1])
         if d < best:
             best = d
             bj = (e - es[c]) % m
