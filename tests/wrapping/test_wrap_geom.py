@@ -7,8 +7,10 @@ from test_wrap import star
 from tentaclass.wrapping._geom import (
     crosses,
     crosses_boxed,
+    crosses_range_boxed,
     crossing_edge,
     crossing_edge_boxed,
+    crossing_edge_range,
     edge_boxes,
     enters_convex,
     inside,
@@ -95,3 +97,18 @@ def test_locate_finds_the_first_nearest_edge_of_a_plain_scan(rng):
     rows = np.arange(len(pts))
     np.testing.assert_array_equal(t, tt[rows, want])
     np.testing.assert_array_equal(p, np.stack([cx[rows, want], cy[rows, want]], axis=1))
+
+
+def test_blocked_range_crossing_test_agrees_with_the_plain_one(rng):
+    outline = star(50, 1.0, 2.0, 0.1)
+    boxes = edge_boxes(outline)
+    eps = 1e-12 * 4.0**2
+    segs = random_segments(rng, 400, -2.5, 2.5)
+    ranges = [(0, 100), (5, 40), (90, 30), (16, 16), (33, 1), (99, 100), (47, 70)]
+    hits = 0
+    for a, b in segs:
+        for first, count in ranges:
+            want = crossing_edge_range(*a, *b, outline, eps, first, count) >= 0
+            assert crosses_range_boxed(*a, *b, outline, eps, first, count, boxes) == want
+            hits += want
+    assert 0.1 < hits / (len(segs) * len(ranges)) < 0.9

@@ -153,6 +153,10 @@ def _geom_locate(points, curve):
     return locate(points, curve)
 
 
+def _diameter(outline: FloatArray) -> float:
+    return float(pdist(outline[ConvexHull(outline).vertices]).max())
+
+
 def _outline_list(outlines: ArrayLike | Sequence[ArrayLike]) -> list[ArrayLike] | None:
     """The outlines of a batch, or None when ``outlines`` is one outline (rows of points)."""
     if isinstance(outlines, np.ndarray):
@@ -257,8 +261,7 @@ def wrap_many(
     on_start = np.zeros(b, bool)
     scales = np.zeros(b)
     for outline, rows in zip(shapes, groups, strict=True):
-        diameter = float(pdist(outline[ConvexHull(outline).vertices]).max())
-        if thickness > diameter:
+        if thickness > 0 and thickness > (diameter := _diameter(outline)):
             raise InputError(
                 f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
                 f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"

@@ -144,6 +144,33 @@ def crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes):
 
 
 @nb.njit(cache=True)
+def crosses_range_boxed(ax, ay, bx, by, obj, eps, first, count, boxes):
+    """Whether segment a-b crosses one of edges ``first .. first + count - 1`` (cyclic).
+
+    As :func:`crossing_edge_range` ``>= 0``, passing over the whole blocks of
+    ``boxes`` (:func:`edge_boxes`) in the range whose box misses the segment's.
+    """
+    m = obj.shape[0]
+    lox, hix = min(ax, bx), max(ax, bx)
+    loy, hiy = min(ay, by), max(ay, by)
+    ii, end = first, first + count
+    while ii < end:
+        i = ii % m
+        if i % BOX_EDGES == 0 and i + BOX_EDGES <= m and ii + BOX_EDGES <= end:
+            b = i // BOX_EDGES
+            run = BOX_EDGES
+            if boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy:
+                ii += run
+                continue
+        else:  # up to the next block, the end of the outline or of the range
+            run = min(BOX_EDGES - i % BOX_EDGES, m - i, end - ii)
+        if crossing_edge_range(ax, ay, bx, by, obj, eps, i, run) >= 0:
+            return True
+        ii += run
+    return False
+
+
+@nb.njit(cache=True)
 def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
     """:func:`crosses`, testing only the blocks of edges whose box meets the segment's."""
     return crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes) >= 0

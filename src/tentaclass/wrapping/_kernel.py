@@ -24,8 +24,8 @@ from ._geom import (
     _near,
     crosses,
     crosses_boxed,
+    crosses_range_boxed,
     crossing_edge_boxed,
-    crossing_edge_range,
     edge_boxes,
     enters_convex,
     free_direction,
@@ -38,6 +38,13 @@ __all__ = ["crosses", "locate", "walk", "walk_many"]
 STATUS_COMPLETE = 0
 #: Fraction of a link within which the approach's last joint lands on the start point.
 LANDING = 0.25
+
+
+@nb.njit(cache=True, inline="always")
+def _edge_heading(k, j, c, o, m, theta, es, th0):
+    """Unwrapped direction of segment ``j`` (an edge of curve ``c``) of lap ``k``."""
+    ee = es[c] + j
+    return theta[o + ee % m] + TWO_PI * (ee // m) + (th0 + TWO_PI * k - theta[o + es[c]])
 
 
 @nb.njit(cache=True)
@@ -215,36 +222,35 @@ def _search(
     base,
     app_th,
     n_laps,
-    track,
+    boff,
+    tboxes,
+    top_dev,
+    seg_len,
 ):
     """Next point of the track after cursor ``(k, j, p)`` at distance ``l`` from ``a``.
 
     Returns ``(status, k, j, x, y, theta, deviation, bridged, walked)``; status 0
     found, 1 nothing within ``limit`` of arc, 2 out of laps. ``skip_first``
     ignores a root at the cursor itself (continuing after a rejected point).
-    ``track``: :func:`track_blocks` of the lap curves; whole blocks of edges
-    that lie clear of the link's circle are passed without solving for roots.
+    ``boff, tboxes, top_dev, seg_len``: :func:`track_blocks` of the lap
+    curves; whole blocks of edges that lie clear of the link's circle are
+    passed without solving for roots.
     """
-    boff, tboxes, top_dev, seg_len = track
     n_curves = off.shape[0] - 1
     bridged = False
     walked = 0.0
     first = True
     while True:
-        if k >= 0:
+        if k >= 0 and not first:
             c = min(k, n_curves - 1)
             o = off[c]
             m = off[c + 1] - o
             if 1 <= j <= m - 1:
-                # the edges of the lap curve between the lap's ends
+                # the edges of the lap curve between the lap's ends, after the
+                # first segment searched (the cursor's own, often the last)
                 e = (es[c] + j) % m
                 while j <= m - 1:
-                    if (
-                        not first
-                        and e % TRACK_BLOCK == 0
-                        and e + TRACK_BLOCK <= m
-                        and j + TRACK_BLOCK <= m
-                    ):
+                    if e % TRACK_BLOCK == 0 and e + TRACK_BLOCK <= m and j + TRACK_BLOCK <= m:
                         bi = boff[c] + e // TRACK_BLOCK
                         if _clear_of_circle(tboxes[bi], ax, ay, ln):
                             w = walked
@@ -270,18 +276,14 @@ def _search(
                             bridged = True
                         tau = _root(ax, ay, ln, px, py, dx, dy, A, skip_first)
                         if tau >= 0.0:
-                            th = _segment(
-                                k, j, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps
-                            )[4]
+                            th = _edge_heading(k, j, c, o, m, theta, es, th0)
                             return 0, k, j, px + tau * dx, py + tau * dy, th, dv, bridged, walked
                         walked += np.sqrt(A)
                     skip_first = False
-                    first = False
                     if walked > limit:
-                        seg = _segment(
-                            k, j, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps
-                        )
-                        return 1, k, j, px, py, seg[4], seg[5], bridged, walked
+                        th = _edge_heading(k, j, c, o, m, theta, es, th0)
+                        dv = dev[o + e] if c == 0 else np.inf
+                        return 1, k, j, px, py, th, dv, bridged, walked
                     j += 1
                     px, py = x1, y1
                     e = e + 1 if e + 1 < m else 0
@@ -409,6 +411,7 @@ def walk(
     """
     m0 = off[1] - off[0]
     m_obj = obj.shape[0]
+    boff, tboxes, top_dev, seg_len = track
     k = -1 if approach else 0
     j = 0
     if approach:
@@ -457,7 +460,10 @@ def walk(
             base,
             app_th,
             n_laps,
-            track,
+            boff,
+            tboxes,
+            top_dev,
+            seg_len,
         )
         if r[0] != 0:
             # nothing of the track at a link's length ahead: the link folds in
@@ -499,7 +505,7 @@ def walk(
                 cnt = min((i1 - i0 - 1) % m_obj + 3, m_obj)
                 if (k - sk) * m0 + j - sj >= m0 - 1:
                     cnt = m_obj
-                cross = crossing_edge_range(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt) >= 0
+                cross = crosses_range_boxed(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt, boxes)
             else:
                 cross = crosses_boxed(ax, ay, xx, xy, obj, eps, boxes)
         if cross:
@@ -530,7 +536,10 @@ def walk(
                         base,
                         app_th,
                         n_laps,
-                        track,
+                        boff,
+                        tboxes,
+                        top_dev,
+                        seg_len,
                     )
                     if r2[0] != 0:
                         break

@@ -49,17 +49,18 @@ def _edge_theta(p: FloatArray) -> FloatArray:
 def _hull(outline: FloatArray) -> tuple[FloatArray, FloatArray, np.ndarray]:
     """Convex hull vertices (ccw) and each hull edge's largest distance to the outline it skips."""
     idx = ConvexHull(outline).vertices  # counter-clockwise for 2-D input
-    m = len(outline)
-    dev = np.zeros(len(idx))
-    for h, i in enumerate(idx):
-        j = idx[(h + 1) % len(idx)]
-        if (j - i) % m <= 1:
-            continue
-        between = np.arange(i + 1, i + 1 + (j - i - 1) % m) % m
-        a, b = outline[i], outline[j]
-        u = (b - a) / np.hypot(*(b - a))
-        r = outline[between] - a
-        dev[h] = float(np.max(np.abs(r[:, 0] * u[1] - r[:, 1] * u[0])))
+    m, h = len(outline), len(idx)
+    nxt = np.roll(idx, -1)
+    skipped = np.maximum((nxt - idx) % m - 1, 0)  # outline vertices strictly between
+    owner = np.repeat(np.arange(h), skipped)
+    first = np.cumsum(skipped) - skipped
+    between = (idx[owner] + 1 + np.arange(len(owner)) - first[owner]) % m
+    a, b = outline[idx], outline[nxt]
+    d = b - a
+    u = d / np.hypot(d[:, 0], d[:, 1])[:, None]
+    r = outline[between] - a[owner]
+    dev = np.zeros(h)
+    np.maximum.at(dev, owner, np.abs(r[:, 0] * u[owner, 1] - r[:, 1] * u[owner, 0]))
     return outline[idx], dev, idx.astype(np.int64)
 
 
