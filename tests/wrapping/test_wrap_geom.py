@@ -25,10 +25,12 @@ def random_segments(rng, n, lo, hi):
 
 
 def test_blocked_crossing_test_agrees_with_the_plain_one(rng):
-    # 100 vertices: the edges fall in 7 blocks, the last one short
+    # 100 vertices: the edges fall in 7 blocks, the last one short, in one group
     outline = star(50, 1.0, 2.0, 0.1)
     boxes = edge_boxes(outline)
-    assert boxes.shape == (7, 4)
+    assert boxes.shape == (7 + 1, 4)
+    lo, hi = outline.min(axis=0), outline.max(axis=0)
+    np.testing.assert_array_equal(boxes[7], [lo[0], hi[0], lo[1], hi[1]])  # the group's box
     segs = random_segments(rng, 3000, -2.5, 2.5)
     eps = 1e-12 * 4.0**2
     plain = [crosses(*a, *b, outline, eps) for a, b in segs]
@@ -54,7 +56,7 @@ def test_entering_a_convex_polygon_agrees_with_shapely(rng):
 
 
 def test_blocked_crossing_edge_and_inside_agree_with_the_plain_ones(rng):
-    outline = star(50, 1.0, 2.0, 0.1)
+    outline = star(150, 1.0, 2.0, 0.1)  # 19 blocks in 3 groups
     boxes = edge_boxes(outline)
     eps = 1e-12 * 4.0**2
     segs = random_segments(rng, 2000, -2.5, 2.5)

@@ -103,14 +103,27 @@ def crossing_edge_range(ax, ay, bx, by, obj, eps, first, count):
 
 #: Edges per block of :func:`edge_boxes`.
 BOX_EDGES = 16
+#: Blocks per group of :func:`edge_boxes`.
+BOX_GROUP = 8
+
+
+@nb.njit(cache=True, inline="always")
+def _n_blocks(m):
+    """Blocks of ``BOX_EDGES`` edges of a closed polyline of ``m`` vertices."""
+    return (m + BOX_EDGES - 1) // BOX_EDGES
 
 
 @nb.njit(cache=True)
 def edge_boxes(obj):
-    """Bounding box ``(x_min, x_max, y_min, y_max)`` of each block of ``BOX_EDGES`` edges."""
+    """Bounding box ``(x_min, x_max, y_min, y_max)`` of each block of ``BOX_EDGES`` edges.
+
+    Followed by the box of each group of ``BOX_GROUP`` blocks: rows
+    ``_n_blocks(m) ..`` (a search checks a group's box before its blocks').
+    """
     m = obj.shape[0]
-    nb_ = (m + BOX_EDGES - 1) // BOX_EDGES
-    boxes = np.empty((nb_, 4))
+    nb_ = _n_blocks(m)
+    ng = (nb_ + BOX_GROUP - 1) // BOX_GROUP
+    boxes = np.empty((nb_ + ng, 4))
     for b in range(nb_):
         lo = b * BOX_EDGES
         hi = min(lo + BOX_EDGES, m)  # the last edge of the block ends at vertex hi
@@ -120,26 +133,44 @@ def edge_boxes(obj):
             x, y = obj[v % m, 0], obj[v % m, 1]
             boxes[b, 0], boxes[b, 1] = min(boxes[b, 0], x), max(boxes[b, 1], x)
             boxes[b, 2], boxes[b, 3] = min(boxes[b, 2], y), max(boxes[b, 3], y)
+    for g in range(ng):
+        r = nb_ + g
+        boxes[r, 0], boxes[r, 1] = np.inf, -np.inf
+        boxes[r, 2], boxes[r, 3] = np.inf, -np.inf
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            boxes[r, 0], boxes[r, 1] = min(boxes[r, 0], boxes[b, 0]), max(boxes[r, 1], boxes[b, 1])
+            boxes[r, 2], boxes[r, 3] = min(boxes[r, 2], boxes[b, 2]), max(boxes[r, 3], boxes[b, 3])
     return boxes
+
+
+@nb.njit(cache=True, inline="always")
+def _misses(boxes, b, lox, hix, loy, hiy):
+    """Box ``b`` and the box ``[lox, hix] x [loy, hiy]`` are disjoint."""
+    return boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy
 
 
 @nb.njit(cache=True)
 def crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes):
     """:func:`crossing_edge`, testing only the blocks of edges whose box meets the segment's.
 
-    The same edge as :func:`crossing_edge`: a block whose box misses the
-    segment's holds no edge that the plain test would examine.
+    The same edge as :func:`crossing_edge`: a block whose box (or whose
+    group's box) misses the segment's holds no edge that the plain test would
+    examine.
     """
     m = obj.shape[0]
+    nb_ = _n_blocks(m)
     lox, hix = min(ax, bx), max(ax, bx)
     loy, hiy = min(ay, by), max(ay, by)
-    for b in range(boxes.shape[0]):
-        if boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy:
+    for g in range(boxes.shape[0] - nb_):
+        if _misses(boxes, nb_ + g, lox, hix, loy, hiy):
             continue
-        first = b * BOX_EDGES
-        e = crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first))
-        if e >= 0:
-            return e
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if _misses(boxes, b, lox, hix, loy, hiy):
+                continue
+            first = b * BOX_EDGES
+            e = crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first))
+            if e >= 0:
+                return e
     return -1
 
 
@@ -157,9 +188,8 @@ def crosses_range_boxed(ax, ay, bx, by, obj, eps, first, count, boxes):
     while ii < end:
         i = ii % m
         if i % BOX_EDGES == 0 and i + BOX_EDGES <= m and ii + BOX_EDGES <= end:
-            b = i // BOX_EDGES
             run = BOX_EDGES
-            if boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy:
+            if _misses(boxes, i // BOX_EDGES, lox, hix, loy, hiy):
                 ii += run
                 continue
         else:  # up to the next block, the end of the outline or of the range
@@ -207,7 +237,7 @@ def locate(points, curve):
     b = points.shape[0]
     m = curve.shape[0]
     boxes = edge_boxes(curve)
-    nb_ = boxes.shape[0]
+    nb_ = _n_blocks(m)
     ext = 0.0
     for k in range(nb_):
         ext = max(ext, abs(boxes[k, 0]), abs(boxes[k, 1]), abs(boxes[k, 2]), abs(boxes[k, 3]))
@@ -290,14 +320,18 @@ def _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, c):
     """
     m = obj.shape[0]
     far = ln * ln * (1.0 + _REACH_MARGIN)
-    for b in range(boxes.shape[0]):
-        if _box_gap2(boxes, b, ax, ay) > far:
+    nb_ = _n_blocks(m)
+    for g in range(boxes.shape[0] - nb_):
+        if _box_gap2(boxes, nb_ + g, ax, ay) > far:
             continue
-        lo = b * BOX_EDGES
-        for i in range(lo, min(lo + BOX_EDGES, m)):
-            i2 = i + 1 if i + 1 < m else 0
-            c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1],
-                                 True, True, angs, px, py, on, c)  # fmt: skip
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if _box_gap2(boxes, b, ax, ay) > far:
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0],
+                                     obj[i2, 1], True, True, angs, px, py, on, c)  # fmt: skip
     return c
 
 
@@ -378,29 +412,37 @@ def inside_boxed(x, y, obj, eps, boxes):
     further than ``2 eps`` from it holds no edge within ``eps``.
     """
     m = obj.shape[0]
+    nb_ = _n_blocks(m)
+    ng = boxes.shape[0] - nb_
     wn = False
-    for b in range(boxes.shape[0]):
-        if boxes[b, 2] > y or boxes[b, 3] <= y:
+    for g in range(ng):
+        if boxes[nb_ + g, 2] > y or boxes[nb_ + g, 3] <= y:
             continue
-        lo = b * BOX_EDGES
-        for i in range(lo, min(lo + BOX_EDGES, m)):
-            i2 = i + 1 if i + 1 < m else 0
-            x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
-            if (y0 > y) != (y1 > y):
-                if x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-                    wn = not wn
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if boxes[b, 2] > y or boxes[b, 3] <= y:
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
+                if (y0 > y) != (y1 > y):
+                    if x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+                        wn = not wn
     if not wn:
         return False
     far = 4.0 * eps * eps
-    for b in range(boxes.shape[0]):
-        if _box_gap2(boxes, b, x, y) > far:
+    for g in range(ng):
+        if _box_gap2(boxes, nb_ + g, x, y) > far:
             continue
-        lo = b * BOX_EDGES
-        for i in range(lo, min(lo + BOX_EDGES, m)):
-            i2 = i + 1 if i + 1 < m else 0
-            d = _foot(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])[3]
-            if not d > eps * eps:
-                return False
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if _box_gap2(boxes, b, x, y) > far:
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                d = _foot(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])[3]
+                if not d > eps * eps:
+                    return False
     return True
 
 
@@ -519,7 +561,7 @@ def outline_distances(points, obj, boxes):
     passed over; the search starts at the block nearest the previous point.
     """
     m = obj.shape[0]
-    nb_ = boxes.shape[0]
+    nb_ = _n_blocks(m)
     ext = 0.0
     for b in range(nb_):
         ext = max(ext, abs(boxes[b, 0]), abs(boxes[b, 1]), abs(boxes[b, 2]), abs(boxes[b, 3]))
