@@ -114,3 +114,32 @@ def test_blocked_range_crossing_test_agrees_with_the_plain_one(rng):
             assert crosses_range_boxed(*a, *b, outline, eps, first, count, boxes) == want
             hits += want
     assert 0.1 < hits / (len(segs) * len(ranges)) < 0.9
+
+
+def test_search_over_track_blocks_finds_what_the_edge_by_edge_search_finds(rng):
+    from tentaclass.wrapping._kernel import _search, track_blocks
+    from tentaclass.wrapping._surface import _edge_theta
+
+    pts = star(100, 1.0, 2.0, 0.1)  # 200 vertices: 12 whole blocks
+    m = len(pts)
+    off = np.array([0, m])
+    theta = _edge_theta(pts)
+    dev = np.where(rng.uniform(size=m) < 0.2, 0.3, 0.0)
+    es, spt = np.array([7]), pts[7:8] + 0.5 * (pts[8] - pts[7])
+    boff, boxes, top_dev, seg_len = track_blocks(pts, off, dev)
+    blind = np.tile([-np.inf, np.inf, -np.inf, np.inf], (len(boxes), 1))  # never clear
+    skipped = 0
+    for _ in range(300):
+        j = int(rng.integers(1, m))
+        p = pts[(7 + j) % m]
+        ln, limit, skip = rng.uniform(0.05, 1.5), rng.uniform(5.0, 300.0), bool(rng.integers(2))
+        # a circle about a point further along the track (or near the cursor)
+        ahead = pts[(7 + j + int(rng.integers(0, 150))) % m]
+        a = ahead + ln * np.array([np.cos(phi := rng.uniform(0, 2 * np.pi)), np.sin(phi)])
+        common = (a[0], a[1], ln, 0, j, p[0], p[1], skip, 0.1, limit, pts, off, theta, dev, es,
+                  spt, theta[7], spt[0], 0.0, 3, boff)  # fmt: skip
+        got = _search(*common, boxes, top_dev, seg_len)
+        want = _search(*common, blind, top_dev, seg_len)
+        assert got == want
+        skipped += got[0] == 0 and (got[1] > 0 or got[2] - j > 32)
+    assert skipped > 100  # searches that ran past whole blocks
