@@ -96,7 +96,7 @@ def main() -> None:
         modes = np.array([m.split()[1] for m in a["meta"]])
         refused = len(a["errors"])
     print(f"{int(changed.sum())} of {n} changed (taut {int(np.sum(modes == 'taut'))}, "
-          f"hug {int(np.sum(modes == 'hug'))}; every {args.every}th MPEG-7 silhouette; "
+          f"hug {int(np.sum(modes == 'hug'))}; one MPEG-7 silhouette in {args.every}; "
           f"{refused} calls refused alike)")  # fmt: skip
 
 
