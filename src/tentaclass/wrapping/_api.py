@@ -270,8 +270,8 @@ def wrap_many(
     on_start = np.zeros(b, bool)
     scales = np.zeros(b)
     for outline, rows in zip(shapes, groups, strict=True):
-        diameter = outline_diameter(outline)
-        check_thickness_fits(thickness, diameter)
+        if thickness > 0:
+            check_thickness_fits(thickness, outline_diameter(outline))
         surf = build_surface(
             outline, mode, thickness, float(n * ls[rows].max()), mirror, float(ls[rows][0])
         )

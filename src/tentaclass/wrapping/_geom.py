@@ -103,14 +103,27 @@ def crossing_edge_range(ax, ay, bx, by, obj, eps, first, count):
 
 #: Edges per block of :func:`edge_boxes`.
 BOX_EDGES = 16
+#: Blocks per group of :func:`edge_boxes`.
+BOX_GROUP = 8
+
+
+@nb.njit(cache=True, inline="always")
+def _n_blocks(m):
+    """Blocks of ``BOX_EDGES`` edges of a closed polyline of ``m`` vertices."""
+    return (m + BOX_EDGES - 1) // BOX_EDGES
 
 
 @nb.njit(cache=True)
 def edge_boxes(obj):
-    """Bounding box ``(x_min, x_max, y_min, y_max)`` of each block of ``BOX_EDGES`` edges."""
+    """Bounding box ``(x_min, x_max, y_min, y_max)`` of each block of ``BOX_EDGES`` edges.
+
+    Followed by the box of each group of ``BOX_GROUP`` blocks: rows
+    ``_n_blocks(m) ..`` (a search checks a group's box before its blocks').
+    """
     m = obj.shape[0]
-    nb_ = (m + BOX_EDGES - 1) // BOX_EDGES
-    boxes = np.empty((nb_, 4))
+    nb_ = _n_blocks(m)
+    ng = (nb_ + BOX_GROUP - 1) // BOX_GROUP
+    boxes = np.empty((nb_ + ng, 4))
     for b in range(nb_):
         lo = b * BOX_EDGES
         hi = min(lo + BOX_EDGES, m)  # the last edge of the block ends at vertex hi
@@ -120,49 +133,141 @@ def edge_boxes(obj):
             x, y = obj[v % m, 0], obj[v % m, 1]
             boxes[b, 0], boxes[b, 1] = min(boxes[b, 0], x), max(boxes[b, 1], x)
             boxes[b, 2], boxes[b, 3] = min(boxes[b, 2], y), max(boxes[b, 3], y)
+    for g in range(ng):
+        r = nb_ + g
+        boxes[r, 0], boxes[r, 1] = np.inf, -np.inf
+        boxes[r, 2], boxes[r, 3] = np.inf, -np.inf
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            boxes[r, 0], boxes[r, 1] = min(boxes[r, 0], boxes[b, 0]), max(boxes[r, 1], boxes[b, 1])
+            boxes[r, 2], boxes[r, 3] = min(boxes[r, 2], boxes[b, 2]), max(boxes[r, 3], boxes[b, 3])
     return boxes
+
+
+@nb.njit(cache=True, inline="always")
+def _misses(boxes, b, lox, hix, loy, hiy):
+    """Box ``b`` and the box ``[lox, hix] x [loy, hiy]`` are disjoint."""
+    return boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy
+
+
+@nb.njit(cache=True)
+def crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes):
+    """:func:`crossing_edge`, testing only the blocks of edges whose box meets the segment's.
+
+    The same edge as :func:`crossing_edge`: a block whose box (or whose
+    group's box) misses the segment's holds no edge that the plain test would
+    examine.
+    """
+    m = obj.shape[0]
+    nb_ = _n_blocks(m)
+    lox, hix = min(ax, bx), max(ax, bx)
+    loy, hiy = min(ay, by), max(ay, by)
+    for g in range(boxes.shape[0] - nb_):
+        if _misses(boxes, nb_ + g, lox, hix, loy, hiy):
+            continue
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if _misses(boxes, b, lox, hix, loy, hiy):
+                continue
+            first = b * BOX_EDGES
+            e = crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first))
+            if e >= 0:
+                return e
+    return -1
+
+
+@nb.njit(cache=True)
+def crosses_range_boxed(ax, ay, bx, by, obj, eps, first, count, boxes):
+    """Whether segment a-b crosses one of edges ``first .. first + count - 1`` (cyclic).
+
+    As :func:`crossing_edge_range` ``>= 0``, passing over the whole blocks of
+    ``boxes`` (:func:`edge_boxes`) in the range whose box misses the segment's.
+    """
+    m = obj.shape[0]
+    lox, hix = min(ax, bx), max(ax, bx)
+    loy, hiy = min(ay, by), max(ay, by)
+    ii, end = first, first + count
+    while ii < end:
+        i = ii % m
+        if i % BOX_EDGES == 0 and i + BOX_EDGES <= m and ii + BOX_EDGES <= end:
+            run = BOX_EDGES
+            if _misses(boxes, i // BOX_EDGES, lox, hix, loy, hiy):
+                ii += run
+                continue
+        else:  # up to the next block, the end of the outline or of the range
+            run = min(BOX_EDGES - i % BOX_EDGES, m - i, end - ii)
+        if crossing_edge_range(ax, ay, bx, by, obj, eps, i, run) >= 0:
+            return True
+        ii += run
+    return False
 
 
 @nb.njit(cache=True)
 def crosses_boxed(ax, ay, bx, by, obj, eps, boxes):
     """:func:`crosses`, testing only the blocks of edges whose box meets the segment's."""
-    m = obj.shape[0]
-    lox, hix = min(ax, bx), max(ax, bx)
-    loy, hiy = min(ay, by), max(ay, by)
-    for b in range(boxes.shape[0]):
-        if boxes[b, 1] < lox or boxes[b, 0] > hix or boxes[b, 3] < loy or boxes[b, 2] > hiy:
-            continue
-        first = b * BOX_EDGES
-        if crossing_edge_range(ax, ay, bx, by, obj, eps, first, min(BOX_EDGES, m - first)) >= 0:
-            return True
-    return False
+    return crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes) >= 0
+
+
+@nb.njit(cache=True, inline="always")
+def _box_gap2(boxes, b, x, y):
+    """Squared distance from ``(x, y)`` to box ``b`` of ``boxes`` (0 inside it)."""
+    gx = max(boxes[b, 0] - x, x - boxes[b, 1], 0.0)
+    gy = max(boxes[b, 2] - y, y - boxes[b, 3], 0.0)
+    return gx * gx + gy * gy
+
+
+@nb.njit(cache=True, inline="always")
+def _foot(x, y, x0, y0, x1, y1):
+    """Nearest point of segment ``(x0, y0)-(x1, y1)`` to ``(x, y)``: ``(t, cx, cy, d^2)``."""
+    dx, dy = x1 - x0, y1 - y0
+    A = dx * dx + dy * dy
+    t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
+    t = min(max(t, 0.0), 1.0)
+    cx, cy = x0 + t * dx, y0 + t * dy
+    return t, cx, cy, (cx - x) ** 2 + (cy - y) ** 2
 
 
 @nb.njit(cache=True)
 def locate(points, curve):
     """Nearest point on the closed polyline ``curve`` to each of ``points``.
 
-    Returns edge index, parameter on the edge and the point, per input point.
+    Returns edge index, parameter on the edge and the point, per input point:
+    the first edge (in order) at the least distance. The edges go by in
+    blocks (:func:`edge_boxes`); a block further from the point than the
+    nearest edge of the block nearest to it (beyond rounding) is passed over.
     """
     b = points.shape[0]
     m = curve.shape[0]
+    boxes = edge_boxes(curve)
+    nb_ = _n_blocks(m)
+    ext = 0.0
+    for k in range(nb_):
+        ext = max(ext, abs(boxes[k, 0]), abs(boxes[k, 1]), abs(boxes[k, 2]), abs(boxes[k, 3]))
     es = np.empty(b, np.int64)
     ts = np.empty(b)
     out = np.empty((b, 2))
     for q in range(b):
-        best = np.inf
-        for i in range(m):
+        qx, qy = points[q, 0], points[q, 1]
+        near, gap = 0, np.inf
+        for k in range(nb_):
+            g = _box_gap2(boxes, k, qx, qy)
+            if g < gap:
+                near, gap = k, g
+        # a bound on the least distance: the nearest edge of the nearest block
+        bound = np.inf
+        for i in range(near * BOX_EDGES, min(near * BOX_EDGES + BOX_EDGES, m)):
             i2 = i + 1 if i + 1 < m else 0
-            x0, y0 = curve[i, 0], curve[i, 1]
-            dx, dy = curve[i2, 0] - x0, curve[i2, 1] - y0
-            A = dx * dx + dy * dy
-            t = ((points[q, 0] - x0) * dx + (points[q, 1] - y0) * dy) / A if A > 0 else 0.0
-            t = min(max(t, 0.0), 1.0)
-            cx, cy = x0 + t * dx, y0 + t * dy
-            d = (cx - points[q, 0]) ** 2 + (cy - points[q, 1]) ** 2
-            if d < best:
-                best = d
-                es[q], ts[q], out[q, 0], out[q, 1] = i, t, cx, cy
+            d = _foot(qx, qy, curve[i, 0], curve[i, 1], curve[i2, 0], curve[i2, 1])[3]
+            bound = min(bound, d)
+        reach = np.sqrt(bound) + 1e-9 * (np.sqrt(bound) + ext)
+        best = np.inf
+        for k in range(nb_):
+            if _box_gap2(boxes, k, qx, qy) > reach * reach:
+                continue
+            for i in range(k * BOX_EDGES, min(k * BOX_EDGES + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                t, cx, cy, d = _foot(qx, qy, curve[i, 0], curve[i, 1], curve[i2, 0], curve[i2, 1])
+                if d < best:
+                    best = d
+                    es[q], ts[q], out[q, 0], out[q, 1] = i, t, cx, cy
     return es, ts, out
 
 
@@ -201,30 +306,55 @@ def _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, tip_on, angs,
     return c
 
 
+#: Relative margin (on squared distances) by which a block of edges must lie
+#: beyond a link's reach for the candidates of a turning link to skip it.
+_REACH_MARGIN = 1e-4
+
+
 @nb.njit(cache=True)
-def free_direction(ax, ay, ux, uy, ln, obj, eps):
+def _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, c):
+    """:func:`_rest_candidates` of every outline vertex and edge, in order; returns the count.
+
+    Blocks of edges whose box lies beyond the link's reach offer none and are
+    skipped (``boxes``: :func:`edge_boxes` of ``obj``).
+    """
+    m = obj.shape[0]
+    far = ln * ln * (1.0 + _REACH_MARGIN)
+    nb_ = _n_blocks(m)
+    for g in range(boxes.shape[0] - nb_):
+        if _box_gap2(boxes, nb_ + g, ax, ay) > far:
+            continue
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if _box_gap2(boxes, b, ax, ay) > far:
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0],
+                                     obj[i2, 1], True, True, angs, px, py, on, c)  # fmt: skip
+    return c
+
+
+@nb.njit(cache=True)
+def free_direction(ax, ay, ux, uy, ln, obj, eps, boxes):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
     The link pivots on ``a`` and stops where it first rests on the object:
     on an outline vertex within its length (tip in the air) or with its tip on
     an edge. Candidates are tried from the least rotation on. Returns
-    ``(found, tip_x, tip_y, tip_on_outline)``.
+    ``(found, tip_x, tip_y, tip_on_outline)``. ``boxes``: :func:`edge_boxes` of ``obj``.
     """
     m = obj.shape[0]
     angs = np.empty(3 * m)
     px = np.empty(3 * m)
     py = np.empty(3 * m)
     on = np.zeros(3 * m, np.bool_)
-    c = 0
-    for i in range(m):
-        i2 = i + 1 if i + 1 < m else 0
-        c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1],
-                             True, True, angs, px, py, on, c)  # fmt: skip
+    c = _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, 0)
     order = np.argsort(-angs[:c])
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
             continue
-        if crossing_edge(ax, ay, px[t], py[t], obj, eps) < 0:
+        if crossing_edge_boxed(ax, ay, px[t], py[t], obj, eps, boxes) < 0:
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
 
@@ -275,6 +405,48 @@ def inside(x, y, obj, eps):
 
 
 @nb.njit(cache=True)
+def inside_boxed(x, y, obj, eps, boxes):
+    """:func:`inside`, visiting only the blocks of edges that can decide it.
+
+    A block wholly above or below the point flips no crossing parity, and one
+    further than ``2 eps`` from it holds no edge within ``eps``.
+    """
+    m = obj.shape[0]
+    nb_ = _n_blocks(m)
+    ng = boxes.shape[0] - nb_
+    wn = False
+    for g in range(ng):
+        if boxes[nb_ + g, 2] > y or boxes[nb_ + g, 3] <= y:
+            continue
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if boxes[b, 2] > y or boxes[b, 3] <= y:
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                x0, y0, x1, y1 = obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1]
+                if (y0 > y) != (y1 > y):
+                    if x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+                        wn = not wn
+    if not wn:
+        return False
+    far = 4.0 * eps * eps
+    for g in range(ng):
+        if _box_gap2(boxes, nb_ + g, x, y) > far:
+            continue
+        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
+            if _box_gap2(boxes, b, x, y) > far:
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                d = _foot(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])[3]
+                if not d > eps * eps:
+                    return False
+    return True
+
+
+@nb.njit(cache=True)
 def enters_convex(ax, ay, bx, by, hull, eps):
     """True if segment a-b has points inside the convex ccw polygon ``hull``.
 
@@ -308,21 +480,21 @@ def enters_convex(ax, ay, bx, by, hull, eps):
 
 
 @nb.njit(cache=True)
-def blocked(ax, ay, bx, by, obj, eps, joints, last):
+def blocked(ax, ay, bx, by, obj, eps, joints, last, boxes):
     """True if segment a-b enters the object or crosses one of the first ``last`` links.
 
     No cap allowance: a segment between two points of the outline through the
-    object's inside is blocked.
+    object's inside is blocked. ``boxes``: :func:`edge_boxes` of ``obj``.
     """
-    if crossing_edge(ax, ay, bx, by, obj, eps) >= 0:
+    if crossing_edge_boxed(ax, ay, bx, by, obj, eps, boxes) >= 0:
         return True
     if crossing_link(ax, ay, bx, by, joints, last, eps) >= 0:
         return True
-    return inside(0.5 * (ax + bx), 0.5 * (ay + by), obj, np.sqrt(eps))
+    return inside_boxed(0.5 * (ax + bx), 0.5 * (ay + by), obj, np.sqrt(eps), boxes)
 
 
 @nb.njit(cache=True)
-def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
+def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, boxes):
     """Turn a blocked link (from ``a`` along ``u``) clockwise until it is free.
 
     The link pivots on ``a`` and stops where it first rests on the object or on
@@ -339,21 +511,13 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
     px = np.empty(size)
     py = np.empty(size)
     on = np.zeros(size, np.bool_)
-    c = 0
-    for src in range(2):
-        cnt = m if src == 0 else last + 1
-        for i in range(cnt):
-            if src == 0:
-                x0, y0 = obj[i, 0], obj[i, 1]
-                i2 = i + 1 if i + 1 < m else 0
-                x1, y1 = obj[i2, 0], obj[i2, 1]
-                has_edge = True
-            else:
-                x0, y0 = joints[i, 0], joints[i, 1]
-                has_edge = i < last
-                x1, y1 = (joints[i + 1, 0], joints[i + 1, 1]) if has_edge else (x0, y0)
-            c = _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, src == 0,
-                                 angs, px, py, on, c)  # fmt: skip
+    c = _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, 0)
+    for i in range(last + 1):
+        x0, y0 = joints[i, 0], joints[i, 1]
+        has_edge = i < last
+        x1, y1 = (joints[i + 1, 0], joints[i + 1, 1]) if has_edge else (x0, y0)
+        c = _rest_candidates(ax, ay, ux, uy, ln, x0, y0, x1, y1, has_edge, False,
+                             angs, px, py, on, c)  # fmt: skip
     # directions every 1/128 turn: the link free in the air
     r = np.hypot(ux, uy)
     for s in range(1, 65):
@@ -367,6 +531,59 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last):
     for t in order:
         if not (-np.pi + 1e-9 < angs[t] <= 1e-12):
             continue
-        if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last):
+        if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last, boxes):
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
+
+
+@nb.njit(cache=True, inline="always")
+def _point_segment_distance(x, y, ax, ay, bx, by):
+    """Distance from ``(x, y)`` to segment a-b, computed as GEOS computes it (same roundings)."""
+    if ax == bx and ay == by:
+        return np.sqrt((x - ax) * (x - ax) + (y - ay) * (y - ay))
+    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    r = ((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / len2
+    if r <= 0.0:
+        return np.sqrt((x - ax) * (x - ax) + (y - ay) * (y - ay))
+    if r >= 1.0:
+        return np.sqrt((x - bx) * (x - bx) + (y - by) * (y - by))
+    s = ((ay - y) * (bx - ax) - (ax - x) * (by - ay)) / len2
+    return abs(s) * np.sqrt(len2)
+
+
+@nb.njit(cache=True)
+def outline_distances(points, obj, boxes):
+    """Distance from each point to the closed polyline ``obj`` (``boxes``: :func:`edge_boxes`).
+
+    The least distance to any edge, each edge's distance rounded as GEOS
+    rounds it, so that the values equal shapely's ``distance`` to the ring.
+    Blocks of edges whose box lies further than the best distance so far are
+    passed over; the search starts at the block nearest the previous point.
+    """
+    m = obj.shape[0]
+    nb_ = _n_blocks(m)
+    ext = 0.0
+    for b in range(nb_):
+        ext = max(ext, abs(boxes[b, 0]), abs(boxes[b, 1]), abs(boxes[b, 2]), abs(boxes[b, 3]))
+    out = np.empty(points.shape[0])
+    hint = 0
+    for q in range(points.shape[0]):
+        x, y = points[q, 0], points[q, 1]
+        best = np.inf
+        first = hint
+        for step in range(nb_):
+            b = first + step
+            if b >= nb_:
+                b -= nb_
+            # a box further than the best (beyond rounding) holds no nearer edge
+            if np.sqrt(_box_gap2(boxes, b, x, y)) > best + 1e-9 * (best + ext):
+                continue
+            lo = b * BOX_EDGES
+            for i in range(lo, min(lo + BOX_EDGES, m)):
+                i2 = i + 1 if i + 1 < m else 0
+                d = _point_segment_distance(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])
+                if d < best:
+                    best = d
+                    hint = b
+        out[q] = best
+    return out

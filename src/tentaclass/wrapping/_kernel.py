@@ -20,11 +20,12 @@ import numpy as np
 
 from ._geom import (
     TWO_PI,
+    _foot,
     _near,
     crosses,
     crosses_boxed,
-    crossing_edge,
-    crossing_edge_range,
+    crosses_range_boxed,
+    crossing_edge_boxed,
     edge_boxes,
     enters_convex,
     free_direction,
@@ -37,6 +38,13 @@ __all__ = ["crosses", "locate", "walk", "walk_many"]
 STATUS_COMPLETE = 0
 #: Fraction of a link within which the approach's last joint lands on the start point.
 LANDING = 0.25
+
+
+@nb.njit(cache=True, inline="always")
+def _edge_heading(k, j, c, o, m, theta, es, th0):
+    """Unwrapped direction of segment ``j`` (an edge of curve ``c``) of lap ``k``."""
+    ee = es[c] + j
+    return theta[o + ee % m] + TWO_PI * (ee // m) + (th0 + TWO_PI * k - theta[o + es[c]])
 
 
 @nb.njit(cache=True)
@@ -108,6 +116,90 @@ def _virtual_heading(ln, pts, off, theta, es, spt, th0):
     return th0
 
 
+#: Edges per block of :func:`track_blocks`.
+TRACK_BLOCK = 16
+#: Relative margin (on squared distances) by which a block of the track must
+#: lie inside or outside a link's circle for the search to pass it unexamined.
+_BLOCK_MARGIN = 1e-4
+
+
+@nb.njit(cache=True)
+def track_blocks(pts, off, dev):
+    """Summaries of the lap curves for the forward search, per block of ``TRACK_BLOCK`` edges.
+
+    Returns ``(boff, boxes, top_dev, seg_len)``: the blocks of curve ``c`` are
+    ``boff[c] .. boff[c + 1] - 1`` (whole blocks only, local edges ``16 b ..
+    16 b + 15``), each with the bounding box ``(x_min, x_max, y_min, y_max)``
+    of its 17 vertices and the largest deviation of its edges of nonzero
+    length (``-inf`` if none; ``inf`` off curve 0); ``seg_len`` is each edge's
+    length as the search adds it up.
+    """
+    n_curves = off.shape[0] - 1
+    boff = np.zeros(n_curves + 1, np.int64)
+    for c in range(n_curves):
+        boff[c + 1] = boff[c] + (off[c + 1] - off[c]) // TRACK_BLOCK
+    boxes = np.empty((boff[n_curves], 4))
+    top_dev = np.full(boff[n_curves], -np.inf)
+    seg_len = np.zeros(pts.shape[0])
+    for c in range(n_curves):
+        o = off[c]
+        m = off[c + 1] - o
+        for e in range(m):
+            i1 = o + e + 1 if e + 1 < m else o
+            dx, dy = pts[i1, 0] - pts[o + e, 0], pts[i1, 1] - pts[o + e, 1]
+            A = dx * dx + dy * dy
+            if A > 0:
+                seg_len[o + e] = np.sqrt(A)
+        for b in range(boff[c + 1] - boff[c]):
+            bi = boff[c] + b
+            lo = b * TRACK_BLOCK
+            boxes[bi, 0], boxes[bi, 1] = np.inf, -np.inf
+            boxes[bi, 2], boxes[bi, 3] = np.inf, -np.inf
+            for v in range(lo, lo + TRACK_BLOCK + 1):
+                i = o + (v if v < m else v - m)
+                x, y = pts[i, 0], pts[i, 1]
+                boxes[bi, 0], boxes[bi, 1] = min(boxes[bi, 0], x), max(boxes[bi, 1], x)
+                boxes[bi, 2], boxes[bi, 3] = min(boxes[bi, 2], y), max(boxes[bi, 3], y)
+            for e in range(lo, lo + TRACK_BLOCK):
+                if seg_len[o + e] > 0:
+                    d = dev[o + e] if c == 0 else np.inf
+                    top_dev[bi] = max(top_dev[bi], d)
+    return boff, boxes, top_dev, seg_len
+
+
+@nb.njit(cache=True, inline="always")
+def _clear_of_circle(box, ax, ay, ln):
+    """The box lies wholly inside or wholly outside the circle of radius ``ln`` about ``a``."""
+    ddx = max(box[0] - ax, ax - box[1], 0.0)
+    ddy = max(box[2] - ay, ay - box[3], 0.0)
+    r2 = ln * ln
+    if ddx * ddx + ddy * ddy > r2 * (1.0 + _BLOCK_MARGIN):
+        return True
+    fx = max(ax - box[0], box[1] - ax)
+    fy = max(ay - box[2], box[3] - ay)
+    return fx * fx + fy * fy < r2 * (1.0 - _BLOCK_MARGIN)
+
+
+@nb.njit(cache=True, inline="always")
+def _root(ax, ay, ln, px, py, dx, dy, A, skip_first):
+    """First ``tau`` in [0, 1] where ``p + tau d`` lies at distance ``l`` from ``a``, or -1.
+
+    ``tau = 0`` counts only for a start inside the circle and not after a
+    rejected point (``skip_first``), which also skips roots within ``1e-9 l``.
+    """
+    fx, fy = px - ax, py - ay
+    B = 2.0 * (fx * dx + fy * dy)
+    C0 = fx * fx + fy * fy - ln * ln
+    disc = B * B - 4.0 * A * C0
+    if disc >= 0:
+        sq = np.sqrt(disc)
+        lo = 1e-9 * ln / np.sqrt(A) if skip_first else 0.0
+        for tau in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
+            if lo < tau <= 1.0 or (tau == 0.0 and not skip_first and C0 <= 0):
+                return tau
+    return -1.0
+
+
 @nb.njit(cache=True)
 def _search(
     ax,
@@ -130,36 +222,85 @@ def _search(
     base,
     app_th,
     n_laps,
+    boff,
+    tboxes,
+    top_dev,
+    seg_len,
 ):
     """Next point of the track after cursor ``(k, j, p)`` at distance ``l`` from ``a``.
 
     Returns ``(status, k, j, x, y, theta, deviation, bridged, walked)``; status 0
     found, 1 nothing within ``limit`` of arc, 2 out of laps. ``skip_first``
     ignores a root at the cursor itself (continuing after a rejected point).
+    ``boff, tboxes, top_dev, seg_len``: :func:`track_blocks` of the lap
+    curves; whole blocks of edges that lie clear of the link's circle are
+    passed without solving for roots.
     """
+    n_curves = off.shape[0] - 1
     bridged = False
     walked = 0.0
+    first = True
     while True:
+        if k >= 0 and not first:
+            c = min(k, n_curves - 1)
+            o = off[c]
+            m = off[c + 1] - o
+            if 1 <= j <= m - 1:
+                # the edges of the lap curve between the lap's ends, after the
+                # first segment searched (the cursor's own, often the last)
+                e = (es[c] + j) % m
+                while j <= m - 1:
+                    if e % TRACK_BLOCK == 0 and e + TRACK_BLOCK <= m and j + TRACK_BLOCK <= m:
+                        bi = boff[c] + e // TRACK_BLOCK
+                        if _clear_of_circle(tboxes[bi], ax, ay, ln):
+                            w = walked
+                            for s in range(TRACK_BLOCK):
+                                w += seg_len[o + e + s]
+                                if w > limit:
+                                    break
+                            if w <= limit:
+                                walked = w
+                                if top_dev[bi] > slack:
+                                    bridged = True
+                                j += TRACK_BLOCK
+                                e = e + TRACK_BLOCK if e + TRACK_BLOCK < m else 0
+                                px, py = pts[o + e, 0], pts[o + e, 1]
+                                continue
+                    i1 = o + e + 1 if e + 1 < m else o
+                    x1, y1 = pts[i1, 0], pts[i1, 1]
+                    dx, dy = x1 - px, y1 - py
+                    A = dx * dx + dy * dy
+                    if A > 0:
+                        dv = dev[o + e] if c == 0 else np.inf
+                        if dv > slack:
+                            bridged = True
+                        tau = _root(ax, ay, ln, px, py, dx, dy, A, skip_first)
+                        if tau >= 0.0:
+                            th = _edge_heading(k, j, c, o, m, theta, es, th0)
+                            return 0, k, j, px + tau * dx, py + tau * dy, th, dv, bridged, walked
+                        walked += np.sqrt(A)
+                    skip_first = False
+                    if walked > limit:
+                        th = _edge_heading(k, j, c, o, m, theta, es, th0)
+                        dv = dev[o + e] if c == 0 else np.inf
+                        return 1, k, j, px, py, th, dv, bridged, walked
+                    j += 1
+                    px, py = x1, y1
+                    e = e + 1 if e + 1 < m else 0
+                continue
         seg = _segment(k, j, pts, off, theta, dev, es, spt, th0, base, app_th, n_laps)
         x1, y1, th, dv, nseg = seg[2], seg[3], seg[4], seg[5], seg[6]
         dx, dy = x1 - px, y1 - py
         A = dx * dx + dy * dy
         if A > 0:
-            fx, fy = px - ax, py - ay
-            B = 2.0 * (fx * dx + fy * dy)
-            C0 = fx * fx + fy * fy - ln * ln
-            disc = B * B - 4.0 * A * C0
             if dv > slack:
                 bridged = True
-            if disc >= 0:
-                sq = np.sqrt(disc)
-                # after a rejected point, skip roots within 1e-9 l of it
-                lo = 1e-9 * ln / np.sqrt(A) if skip_first else 0.0
-                for tau in ((-B - sq) / (2.0 * A), (-B + sq) / (2.0 * A)):
-                    if lo < tau <= 1.0 or (tau == 0.0 and not skip_first and C0 <= 0):
-                        return 0, k, j, px + tau * dx, py + tau * dy, th, dv, bridged, walked
+            tau = _root(ax, ay, ln, px, py, dx, dy, A, skip_first)
+            if tau >= 0.0:
+                return 0, k, j, px + tau * dx, py + tau * dy, th, dv, bridged, walked
             walked += np.sqrt(A)
         skip_first = False
+        first = False
         if walked > limit:
             return 1, k, j, px, py, th, dv, bridged, walked
         j += 1
@@ -172,7 +313,7 @@ def _search(
 
 
 @nb.njit(cache=True)
-def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
+def _fold_in(i, ax, ay, ln, obj, eps, joints, phi, boxes):
     """Where link ``i`` goes when the track offers it nothing: a chain always ends somewhere.
 
     The link folds in towards the object from nearly a half turn left of the
@@ -183,16 +324,14 @@ def _fold_in(i, ax, ay, ln, obj, eps, joints, phi):
     """
     ph = phi[i - 1]
     last = max(i - 2, 0)
-    ok, xx, xy, _ = free_direction_links(
-        ax, ay, np.cos(ph + 0.99 * np.pi), np.sin(ph + 0.99 * np.pi), ln, obj, eps, joints, last
-    )
+    ux, uy = np.cos(ph + 0.99 * np.pi), np.sin(ph + 0.99 * np.pi)
+    ok, xx, xy, _ = free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, boxes)
     if ok:
         return xx, xy
     if i >= 2:
         return joints[i - 2, 0], joints[i - 2, 1]
-    ok, xx, xy, _ = free_direction_links(
-        ax, ay, np.cos(ph - 0.01 * np.pi), np.sin(ph - 0.01 * np.pi), ln, obj, eps, joints, last
-    )
+    ux, uy = np.cos(ph - 0.01 * np.pi), np.sin(ph - 0.01 * np.pi)
+    ok, xx, xy, _ = free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, boxes)
     if ok:
         return xx, xy
     return ax - ln * np.cos(ph), ay - ln * np.sin(ph)
@@ -215,13 +354,7 @@ def _relocate(x, y, k, j, px, py, pts, off, es):
     for e in range(m):
         i0 = o + e
         i1 = o + (e + 1) % m
-        x0, y0 = pts[i0, 0], pts[i0, 1]
-        dx, dy = pts[i1, 0] - x0, pts[i1, 1] - y0
-        A = dx * dx + dy * dy
-        t = ((x - x0) * dx + (y - y0) * dy) / A if A > 0 else 0.0
-        t = min(max(t, 0.0), 1.0)
-        cx, cy = x0 + t * dx, y0 + t * dy
-        d = (cx - x) ** 2 + (cy - y) ** 2
+        _, cx, cy, d = _foot(x, y, pts[i0, 0], pts[i0, 1], pts[i1, 0], pts[i1, 1])
         if d < best:
             best = d
             bj = (e - es[c]) % m
@@ -255,6 +388,7 @@ def walk(
     bridge_limit,
     vidx,
     boxes,
+    track,
     joints,
     contact,
     lap,
@@ -272,11 +406,12 @@ def walk(
     vertices around it (the only part of the object its hull cap can hold), as
     is a link from a tip beyond the hull vertex its link rests on; a link from
     another joint in the air, against the whole outline if it enters the hull.
-    ``boxes``: :func:`edge_boxes` of ``obj``.
+    ``boxes``: :func:`edge_boxes` of ``obj``; ``track``: :func:`track_blocks` of the curves.
     Returns ``(status, n_placed, phi_virtual)``.
     """
     m0 = off[1] - off[0]
     m_obj = obj.shape[0]
+    boff, tboxes, top_dev, seg_len = track
     k = -1 if approach else 0
     j = 0
     if approach:
@@ -325,10 +460,14 @@ def walk(
             base,
             app_th,
             n_laps,
+            boff,
+            tboxes,
+            top_dev,
+            seg_len,
         )
         if r[0] != 0:
             # nothing of the track at a link's length ahead: the link folds in
-            xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
+            xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi, boxes)
             phi[i] = _near(np.arctan2(xy - ay, xx - ax), phi[i - 1])
             joints[i, 0], joints[i, 1] = xx, xy
             contact[i] = False
@@ -366,7 +505,7 @@ def walk(
                 cnt = min((i1 - i0 - 1) % m_obj + 3, m_obj)
                 if (k - sk) * m0 + j - sj >= m0 - 1:
                     cnt = m_obj
-                cross = crossing_edge_range(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt) >= 0
+                cross = crosses_range_boxed(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt, boxes)
             else:
                 cross = crosses_boxed(ax, ay, xx, xy, obj, eps, boxes)
         if cross:
@@ -397,6 +536,10 @@ def walk(
                         base,
                         app_th,
                         n_laps,
+                        boff,
+                        tboxes,
+                        top_dev,
+                        seg_len,
                     )
                     if r2[0] != 0:
                         break
@@ -444,7 +587,7 @@ def walk(
             x_rest = x_rest and convex
             tip_on = False
             for _ in range(0 if convex else 64):
-                e = crossing_edge(ax, ay, xx, xy, obj, eps)
+                e = crossing_edge_boxed(ax, ay, xx, xy, obj, eps, boxes)
                 if e < 0:
                     break
                 # rest on the more clockwise end of the blocking edge
@@ -460,9 +603,9 @@ def walk(
                 rv = np.hypot(vx, vy)
                 xx, xy = ax + ln * vx / rv, ay + ln * vy / rv
             if not convex and crosses_boxed(ax, ay, xx, xy, obj, eps, boxes):
-                ok, xx, xy, tip_on = free_direction(ax, ay, xx - ax, xy - ay, ln, obj, eps)
+                ok, xx, xy, tip_on = free_direction(ax, ay, xx - ax, xy - ay, ln, obj, eps, boxes)
                 if not ok:  # wedged
-                    xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi)
+                    xx, xy = _fold_in(i, ax, ay, ln, obj, eps, joints, phi, boxes)
                     tip_on = False
             if best == np.inf:
                 wj -= 1  # the cursor stays on its own segment
@@ -523,6 +666,7 @@ def walk_many(
     placed = np.empty(b, np.int64)
     phi_v = np.empty(b)
     boxes = edge_boxes(obj)
+    track = track_blocks(pts, off, dev)
     for q in range(b):
         s, p, v = walk(
             n,
@@ -547,6 +691,7 @@ def walk_many(
             bridge_limit,
             vidx,
             boxes,
+            track,
             joints[q],
             contact[q],
             lap[q],
