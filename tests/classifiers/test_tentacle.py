@@ -1,3 +1,5 @@
+import copy
+
 import numpy as np
 import pytest
 
@@ -186,16 +188,70 @@ def test_longer_wraps_give_one_lap_views():
             assert any(np.allclose(np.roll(v, k), square, atol=1e-9) for k in range(16))
 
 
-def test_requested_false_rejection_rate_is_kept():
-    """Measured on 300 training wraps: 3.0 % rejected at 2 % asked, 23.8 % at 20 %
-    (500 wraps: 3.3 % and 19.3 %)."""
+def _fits_at_rates(monkeypatch, X, y, rates):
+    """``TentacleClassifier(reject=rate).fit(X, y)`` for each rate, from one fit.
+
+    The rate asked sets the rejection limits only: the full wraps' limit on
+    the held-out novelty scores and the partial wraps' limits on their
+    held-out distances, both quantiles taken after everything else is
+    learnt. The fit at the first rate keeps what those quantiles are taken
+    of; each other model is that fit with its limits taken at its own rate
+    (``test_one_fit_gives_the_models_of_every_rate`` compares them with fits).
+    """
+    from tentaclass.classifiers import _tentacle
+
+    first, others = rates[0], rates[1:]
+    limits = {rate: {} for rate in others}
+    fit_rejection, calibrate = _tentacle._fit_rejection, _tentacle._calibrate
+
+    def spy_rejection(*args):
+        for rate in others:
+            limits[rate]["reject_threshold_"] = fit_rejection(*args[:-1], rate)[1]
+        return fit_rejection(*args)
+
+    def spy_calibrate(s, y_, rate):
+        for other in others:  # the last call: the partial wraps' limits
+            far, near = calibrate(s, y_, other)[2:]
+            limits[other].update(partial_reject_distance_=far, partial_reject_margin_=near)
+        return calibrate(s, y_, rate)
+
+    with monkeypatch.context() as m:
+        m.setattr(_tentacle, "_fit_rejection", spy_rejection)
+        m.setattr(_tentacle, "_calibrate", spy_calibrate)
+        model = TentacleClassifier(reject=first).fit(X, y)
+    models = {first: model}
+    for rate in others:
+        models[rate] = copy.deepcopy(model).set_params(reject=rate)
+        for name, value in limits[rate].items():
+            setattr(models[rate], name, value)
+    return models
+
+
+def test_one_fit_gives_the_models_of_every_rate(monkeypatch):
+    X, y = synthetic_tentacle(30, 16, laps=(1.1, 2.0), noise=0.02, random_state=16,
+                              return_X_y=True)  # fmt: skip
+    models = _fits_at_rates(monkeypatch, X, y, (0.02, 0.2))
+    fitted = TentacleClassifier(reject=0.2).fit(X, y)
+    assert models[0.2].get_params() == fitted.get_params()
+    learnt = {k: v for k, v in vars(fitted).items() if k.endswith("_")}
+    assert learnt.keys() == {k for k in vars(models[0.2]) if k.endswith("_")}
+    for name, value in learnt.items():
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(getattr(models[0.2], name), value, err_msg=name)
+        elif isinstance(value, float | int | str):
+            assert getattr(models[0.2], name) == value, name
+    assert models[0.2].reject_threshold_ != models[0.02].reject_threshold_
+    np.testing.assert_array_equal(models[0.2].predict(X), fitted.predict(X))
+
+
+def test_requested_false_rejection_rate_is_kept(monkeypatch):
+    """Measured on 300 training wraps: 3.75 % of 400 new wraps rejected at 2 % asked,
+    24.5 % at 20 %."""
     d = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.02, random_state=16)
     t = synthetic_tentacle(400, 32, laps=(1.1, 2.0), noise=0.02, random_state=17)
     ok = np.isfinite(t.data).all(axis=1) & t.complete
-    rejected = {}
-    for rate in (0.02, 0.2):
-        clf = TentacleClassifier(reject=rate).fit(d.data, d.target)
-        rejected[rate] = np.mean(clf.predict(t.data[ok]) == "unknown")
+    models = _fits_at_rates(monkeypatch, d.data, d.target, (0.02, 0.2))
+    rejected = {rate: np.mean(m.predict(t.data[ok]) == "unknown") for rate, m in models.items()}
     # split-conformal limits: new wraps of known classes are rejected at about the rate asked
     assert rejected[0.02] < 0.07
     assert 0.1 < rejected[0.2] < 0.32

@@ -22,7 +22,9 @@ def wraps(mpeg7_folder, tmp_path_factory):
     for c in CLASSES:
         for f in mpeg7_folder.glob(f"{c}-*.png"):
             shutil.copy(f, folder / f.name)
-    return mpeg7_tentacle(folder, 64, "taut", protocol="fixed-chain", copies=2, cache=False)
+    # one wrap of each object: two (the second copy in training only) gave 95.0 % and
+    # 85.0 %, for twice the wraps to make and about twice the fitting
+    return mpeg7_tentacle(folder, 64, "taut", protocol="fixed-chain", copies=1, cache=False)
 
 
 def _cv(d, noise, **kw):
@@ -44,8 +46,7 @@ def _cv(d, noise, **kw):
 @pytest.mark.slow
 @pytest.mark.parametrize("noise, goal", [(0.0, 0.9), (0.05, 0.8)])
 def test_fixed_chain_taut_subset(wraps, noise, goal):
-    """Every object evaluated once (its first wrap), from a model trained on the other
-    two thirds of the objects: measured 95.0 % noise-free and 85.0 % at noise 0.05
-    (5-fold: 93.5 % and 84.0 %)."""
+    """Every object evaluated once, from a model trained on the other two thirds of
+    the objects: measured 93.5 % noise-free and 84.5 % at noise 0.05."""
     acc, _ = _cv(wraps, noise)
     assert acc >= goal

@@ -74,3 +74,21 @@ def test_a_vanishing_thickness_is_no_thickness(mode):
     none = wrap(square, 30, 0.9, mode=mode)
     np.testing.assert_array_equal(thin.angles, none.angles)
     assert thin.complete and thin.laps > 2
+
+
+@pytest.mark.xfail(
+    strict=True,
+    raises=AssertionError,
+    reason="a start point within about 1e-7 of the perimeter of a corner: the taut link "
+    "from the approach is placed along the next edge instead of pivoting on the corner, "
+    "and runs through a sliver (up to 1e-6 wide) of the object",
+)
+def test_taut_l_wrap_started_a_hair_past_the_corner():
+    # clockwise round the L from 1.2e-7 of the perimeter past (0, 0) along the bottom
+    # edge, half a link (2.85 long) of stand-off below it: the link must rest on the
+    # corner (0, 0) and end at x < 0; it ends at x = 0, crossing the bottom edge
+    outline = OUTLINES["L"]
+    ln = link_length(outline, 0.25)
+    w = wrap(outline, 1, ln, start=1.192092896e-07, direction="cw", mode="taut",
+             offset=0.5 * ln)  # fmt: skip
+    check_geometry(outline, w, ln)
