@@ -28,11 +28,7 @@ _AMBIGUOUS_LAPS = 1.15
 #: links and its end lies within this share of a lap of the point one lap before,
 #: or where its end lies within this many links of that point (a chain that
 #: closes exactly, with no overlap): a chain short of a lap ends a chord of the
-#: missing arc from its start. A lap also counts as closed where the chain has
-#: turned through ``_AMBIGUOUS_LAPS`` laps or more past its approach and the lap
-#: found spans no more than ``1 / _AMBIGUOUS_LAPS`` of the chain after it: encoder
-#: noise moves the rebuilt end far more (its heading error accumulates over
-#: every joint of the lap) than it moves the total turning (one sum of the noise).
+#: missing arc from its start.
 _MIN_OVERLAP = 1.5
 _CLOSE_GAP = 0.12
 _EXACT_GAP = 1.5
@@ -372,9 +368,8 @@ def _closes(X: FloatArray, split: LapSplit) -> np.ndarray:
     """Whether each wrap's lap (as :func:`~tentaclass.features.split_laps` found it) closes.
 
     Rebuilds the joints from the angles and compares the chain's end with the
-    point one lap (``split.period`` links) before it, and counts the turning
-    after the approach: see ``_MIN_OVERLAP``, ``_CLOSE_GAP``, ``_EXACT_GAP``
-    and ``_AMBIGUOUS_LAPS``. False where no lap was found.
+    point one lap (``split.period`` links) before it: see ``_MIN_OVERLAP``,
+    ``_CLOSE_GAP`` and ``_EXACT_GAP``. False where no lap was found.
     """
     n = X.shape[1]
     heading = np.cumsum(X * split.direction[:, None], axis=1)
@@ -386,9 +381,7 @@ def _closes(X: FloatArray, split: LapSplit) -> np.ndarray:
     gap = np.abs(z[:, -1] - (lo + (x - i[:, 0]) * (hi - lo)))
     overlap = n - split.offset - period
     runs_on = (overlap >= _MIN_OVERLAP) & (gap < _CLOSE_GAP * period)
-    turned = (heading[:, -1] - heading[np.arange(len(X)), split.offset]) / (2 * np.pi)
-    turns_on = (turned >= _AMBIGUOUS_LAPS) & (split.laps >= _AMBIGUOUS_LAPS)
-    return split.closed & (runs_on | (gap < _EXACT_GAP) | turns_on)
+    return split.closed & (runs_on | (gap < _EXACT_GAP))
 
 
 def _arc_after_approach(
