@@ -215,6 +215,21 @@ def test_offset_approach():
     assert not w.contact[:3].any() and w.contact[3:].all()
 
 
+@pytest.mark.parametrize("frac", [0.25, 0.3, 0.35])
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+def test_small_circle_after_an_overhanging_approach_link_regains_constant_angles(frac, direction):
+    # the approach's last joint hangs ``frac`` above the start point: its link
+    # to the circle would cut it, so it rests on the tangent with its tip a
+    # hair above the circle; from there the chain lies on its joints again
+    r = 6.5 / (2 * PI)
+    w = wrap(shapes.circle(r, 256), 16, 1.0, start=0.4, offset=2 + frac, direction=direction)
+    chord_turn = 2 * np.arcsin(1 / (2 * r))
+    sign = 1 if direction == "ccw" else -1
+    assert np.allclose(w.angles[5:], sign * chord_turn, atol=0.01)
+    assert np.allclose(np.hypot(*w.joints[5:].T), r, atol=0.01)
+    assert w.angles[3:].sum() * sign > 2 * PI
+
+
 def test_multiple_laps_with_thickness():
     w = wrap(shapes.circle(1.0, 360), 60, 0.3, thickness=0.05)
     assert w.complete and w.laps > 2

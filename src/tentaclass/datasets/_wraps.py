@@ -412,9 +412,10 @@ def _generator_digest() -> str:
     return h.hexdigest()[:16]
 
 
-#: Version of the cached wraps' protocols (what the draws and the search mean); raised
-#: whenever they change in a way the generator's source does not show.
-_WRAPS_VERSION = 1
+#: Version of the cached wraps: raised whenever the wraps themselves change (the
+#: protocols, what the draws and the search mean, or the taut and hug links), even
+#: where the hash of the generator's source would tell the change too.
+_WRAPS_VERSION = 2
 
 
 def _cache_dir() -> Path:

@@ -343,8 +343,21 @@ def _relocate(x, y, k, j, px, py, pts, off, es):
 
     The cursor never moves back: if the nearest point lies behind it, it stays.
     """
+    bj, bx, by, _ = _nearest_on_curve(x, y, k, j, px, py, pts, off, es)
+    if bj > j:
+        return k, bj, bx, by
+    return k, j, px, py
+
+
+@nb.njit(cache=True)
+def _nearest_on_curve(x, y, k, j, px, py, pts, off, es):
+    """The point of lap ``k``'s curve nearest to ``(x, y)``.
+
+    Returns its segment index (counted from the lap's start), the point and
+    its squared distance; ``(j, px, py, inf)`` on the approach (``k < 0``).
+    """
     if k < 0:
-        return k, j, px, py
+        return j, px, py, np.inf
     n_curves = off.shape[0] - 1
     c = min(k, n_curves - 1)
     o = off[c]
@@ -359,9 +372,7 @@ def _relocate(x, y, k, j, px, py, pts, off, es):
             best = d
             bj = (e - es[c]) % m
             bx, by = cx, cy
-    if bj > j:
-        return k, bj, bx, by
-    return k, j, px, py
+    return bj, bx, by, best
 
 
 @nb.njit(cache=True)
@@ -617,6 +628,18 @@ def walk(
                 j = 0
             x_th, x_on, x_sup = w_th, tip_on, False
             lap[i] = -1
+            if convex and k >= 0:
+                # a tip that comes to rest within the slack of the object's own
+                # edge on the hull lies on it: the next link reaches down as a
+                # chord, so that a chain on a curve is back on its joints after
+                # one overhang instead of alternating tangent links for ever
+                nj, _, _, gap = _nearest_on_curve(xx, xy, k, j, px, py, pts, off, es)
+                c = min(k, off.shape[0] - 2)
+                edge = off[c] + (nj + es[c]) % (off[c + 1] - off[c])
+                if gap <= slack * slack and dev[edge] <= slack:
+                    k, j, px, py = _relocate(xx, xy, k, j, px, py, pts, off, es)
+                    x_sup = True
+                    lap[i] = k
         else:
             px, py = xx, xy
             lap[i] = k
