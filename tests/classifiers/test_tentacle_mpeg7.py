@@ -47,6 +47,6 @@ def _cv(d, noise, **kw):
 @pytest.mark.parametrize("noise, goal", [(0.0, 0.9), (0.05, 0.8)])
 def test_fixed_chain_taut_subset(wraps, noise, goal):
     """Every object evaluated once, from a model trained on the other two thirds of
-    the objects: measured 93.5 % noise-free and 84.5 % at noise 0.05."""
+    the objects: measured 92.0 % noise-free and 87.0 % at noise 0.05."""
     acc, _ = _cv(wraps, noise)
     assert acc >= goal
