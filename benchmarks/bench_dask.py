@@ -269,7 +269,7 @@ def main() -> None:
 
     def classify_cli(client, setup, out):
         shutil.rmtree(out, ignore_errors=True)
-        done = classify_files(str(cli_dir / "*.parquet"), out, client, model, N_JOINTS)
+        done = classify_files(str(cli_dir / "*.parquet"), out, client, model)
         return sum(n for _, _, n in done)
 
     def predict_lib(client, setup):
