@@ -15,16 +15,12 @@ from .._validation import check_laps, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..shapes import as_outline
 from ._api import wrap, wrap_many
-from ._surface import build_surface
+from ._surface import outline_diameter
 
 __all__ = ["capture_error", "closing_link_length", "link_length_for_laps", "max_link_length"]
 
 #: Most links :func:`capture_error` puts on one lap.
 MAX_LINKS_PER_LAP = 1_000_000
-
-
-def _diameter(outline: np.ndarray) -> float:
-    return build_surface(outline, "taut", 0.0, 0.0, False, 0.0).diameter
 
 
 def capture_error(
@@ -70,7 +66,7 @@ def capture_error(
     n = int(np.ceil(per / ln)) + 2
     batch = wrap_many(p, n, ln, starts=st, mode=mode)
     ring = shapely.LinearRing(p)
-    diameter = _diameter(p)
+    diameter = outline_diameter(p)
     errors = []
     for i in range(len(st)):
         w = batch[i]
@@ -117,7 +113,7 @@ def max_link_length(
     p = as_outline(outline)
     tol = check_positive_float(tolerance, "tolerance")
     n_grid = check_positive_int(n_grid, "n_grid", minimum=2)
-    d = _diameter(p)
+    d = outline_diameter(p)
     grid = np.geomspace(d / 1000, d, n_grid)
     best = None
     for ln in grid:
@@ -155,7 +151,7 @@ def closing_link_length(
     p = as_outline(outline)
     n = check_positive_int(n_links, "n_links", minimum=2)
     per = float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
-    d = _diameter(p)
+    d = outline_diameter(p)
 
     def laps(ln: float) -> float:
         # 1 once the chain has reached its start point again along the support
