@@ -40,13 +40,17 @@ def as_float_array(
     return arr
 
 
-def as_angle_array(q: ArrayLike, name: str = "joint_angles", *, min_joints: int = 3) -> FloatArray:
+def as_angle_array(
+    q: ArrayLike, name: str = "joint_angles", *, min_joints: int = 3, bounded: bool = True
+) -> FloatArray:
     """Joint-angle array of shape ``(..., n_joints)`` with finite values.
 
     Checks rank before size: a scalar is refused, the last axis must hold at
-    least ``min_joints`` angles and no axis may be empty.
+    least ``min_joints`` angles and no axis may be empty. With ``bounded`` the
+    angles must lie within :func:`angle_limit` (see :func:`check_angle_range`).
     """
-    arr = as_float_array(q, name, min_ndim=1, allow_nonfinite=True)
+    arr = as_rectangular_array(q, name) if not isinstance(q, np.ndarray) else q
+    arr = as_float_array(arr, name, min_ndim=1, allow_nonfinite=True)
     if arr.size == 0:
         raise ShapeError(f"{name} is empty (shape {arr.shape})")
     if arr.shape[-1] < min_joints:
@@ -57,7 +61,54 @@ def as_angle_array(q: ArrayLike, name: str = "joint_angles", *, min_joints: int 
     if not np.all(np.isfinite(arr)):
         bad = int(np.count_nonzero(~np.isfinite(arr)))
         raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
+    if bounded:
+        check_angle_range(arr, name)
     return arr
+
+
+def angle_limit(n_joints: int) -> float:
+    """Largest joint angle, in radians, of a chain of ``n_joints`` joints: ``2*pi*n_joints``.
+
+    A chain of ``n`` links closes at most ``n / 2`` laps, so a joint that turns
+    by ``n`` whole turns is not a joint angle in radians: it is a unit mix-up
+    (degrees, encoder counts) or garbage, whose features would be meaningless
+    numbers that grow with it until they overflow.
+
+    >>> round(angle_limit(16), 2)
+    100.53
+    """
+    return 2 * np.pi * n_joints
+
+
+def check_angle_range(q: FloatArray, name: str, *, first: int = 0) -> None:
+    """Refuse joint angles beyond :func:`angle_limit` of their chain length.
+
+    ``q`` is a finite array of shape ``(..., n_joints)``; the message names the
+    first array (row, counted from ``first``) holding such an angle.
+
+    >>> check_angle_range(np.r_[1e300, np.zeros(17)], "q")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: q holds an angle of 1e+300, beyond 2*pi*n_joints = 113.1 \
+rad for 18 joints: are these joint angles in radians?
+    >>> check_angle_range(np.full((3, 4), 100.0), "a.npy", first=10)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: a.npy: array 10 holds an angle of 100, beyond 2*pi*n_joints \
+= 25.13 rad for 4 joints: are these joint angles in radians?
+    """
+    n = q.shape[-1]
+    limit = angle_limit(n)
+    flat = q.reshape(-1, n)
+    # "not <=" refuses NaN too, for a caller that did not check finiteness
+    bad = ~(np.abs(flat) <= limit)
+    if bad.any():
+        row, col = np.argwhere(bad)[0]
+        where = name if q.ndim == 1 else f"{name}: array {first + int(row)}"
+        raise InputError(
+            f"{where} holds an angle of {flat[row, col]:.4g}, beyond 2*pi*n_joints = "
+            f"{limit:.4g} rad for {n} joints: are these joint angles in radians?"
+        )
 
 
 def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int = 2) -> FloatArray:
@@ -177,14 +228,52 @@ def check_frequency_count(value: object, top: int, name: str, top_text: str) -> 
     return int(count)
 
 
+def _row_lengths(x: object) -> str | None:
+    """Where a nested sequence is ragged: ``"16 and 15, rows 0 and 3"``, or None.
+
+    Compares the lengths of all the rows at one depth before going deeper; a
+    row below the first level is named by its indices, ``[1, 0]``.
+    """
+    level: list[tuple[tuple[int, ...], Any]] = [((), x)]
+    while True:
+        sizes = [
+            None if isinstance(obj, (str, bytes)) or not hasattr(obj, "__len__") else len(obj)
+            for _, obj in level
+        ]
+        for (path, _), size in zip(level, sizes, strict=True):
+            if size != sizes[0]:
+                show = ["a number" if z is None else str(z) for z in (sizes[0], size)]
+                rows = [str(p[0]) if len(p) == 1 else str(list(p)) for p in (level[0][0], path)]
+                return f"{show[0]} and {show[1]}, rows {rows[0]} and {rows[1]}"
+        if not sizes[0]:
+            return None
+        level = [((*path, i), row) for path, obj in level for i, row in enumerate(obj)]
+
+
 def as_rectangular_array(x: ArrayLike, name: str) -> np.ndarray:
-    """``np.asarray(x)``, with an error naming ``name`` when rows differ in length."""
+    """``np.asarray(x)``, with an error naming ``name`` when rows differ in length.
+
+    >>> as_rectangular_array([[1, 2, 3], [4, 5]], "X")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.ShapeError: X: rows have different lengths (3 and 2, rows 0 and 1)
+    """
     try:
         return np.asarray(x)
     except ValueError as exc:
-        raise ShapeError(
-            f"{name} must be a rectangular array; its rows differ in length ({exc})"
-        ) from exc
+        raise ragged_error(x, name, exc) from None
+
+
+def ragged_error(x: object, name: str, exc: Exception) -> Exception:
+    """The error for ``x`` that NumPy could not make an array of (``exc``).
+
+    A :class:`ShapeError` naming ``name`` and the row lengths when ``x`` is a
+    ragged nested sequence, else ``exc`` itself.
+    """
+    where = _row_lengths(x)
+    if where is None:
+        return exc
+    return ShapeError(f"{name}: rows have different lengths ({where})")
 
 
 def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
@@ -212,7 +301,10 @@ def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) 
     """
     from sklearn.utils.validation import validate_data
 
-    return validate_data(estimator, X, reset=reset, **kwargs)
+    try:
+        return validate_data(estimator, X, reset=reset, **kwargs)
+    except ValueError as exc:
+        raise ragged_error(X, "X", exc) from None
 
 
 def check_fitted_X(estimator: Any, X: ArrayLike) -> FloatArray:
@@ -233,7 +325,10 @@ def check_X_y(
     """scikit-learn's ``validate_data`` for a training set ``(X, y)``, typed."""
     from sklearn.utils.validation import validate_data
 
-    return validate_data(estimator, X, y, **kwargs)
+    try:
+        return validate_data(estimator, X, y, **kwargs)
+    except ValueError as exc:
+        raise ragged_error(X, "X", exc) from None
 
 
 def check_spread(
@@ -405,7 +500,7 @@ def as_joint_arrays(n: int, **arrays: ArrayLike) -> list[FloatArray]:
     """Finite arrays of shape ``(..., n)``, broadcast to their common batch shape."""
     out = []
     for name, value in arrays.items():
-        arr = as_angle_array(value, name, min_joints=1)
+        arr = as_angle_array(value, name, min_joints=1, bounded=False)
         if arr.shape[-1] != n:
             raise ShapeError(
                 f"{name} must have {n} entries along its last axis (one per link of the "

@@ -22,8 +22,19 @@ class ModelFileError(TentaclassError, ValueError):
     """A model file is damaged, foreign, or from an unknown format version."""
 
 
+class ModelFileNotFoundError(ModelFileError, FileNotFoundError):
+    """No file at a model's path: a :class:`ModelFileError` and a ``FileNotFoundError``."""
+
+
 class TentaclassWarning(UserWarning):
     """Recoverable problem: tentaclass carried on, but the result may surprise."""
 
 
-__all__ = ["InputError", "ModelFileError", "ShapeError", "TentaclassError", "TentaclassWarning"]
+__all__ = [
+    "InputError",
+    "ModelFileError",
+    "ModelFileNotFoundError",
+    "ShapeError",
+    "TentaclassError",
+    "TentaclassWarning",
+]

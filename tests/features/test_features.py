@@ -1,3 +1,5 @@
+import re
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -209,29 +211,34 @@ def test_transformer_option_types(kwargs, match, rng):
         FourierFeatures(**kwargs).fit(X)
 
 
-def test_huge_angles_give_finite_features_that_scale():
-    # found by fuzzing: the squared real and imaginary parts overflowed
-    one = np.r_[1.0, np.zeros(17)]
-    huge = np.stack([1e300 * one, one])
-    assert np.all(np.isfinite(fourier_features(huge)))
-    for method in ("matmul", "fft"):
-        # with detrend the signal is linear in q: features scale with it
-        f = fourier_features(huge, detrend=True, method=method)
-        ref = fourier_features(one, detrend=True, method=method)
-        np.testing.assert_allclose(f, [1e300 * ref, ref], rtol=1e-12)
-
-
 @pytest.mark.parametrize(
-    "q",
+    "q, where",
     [
-        np.full(2, 8.98846567e307),  # the scale factor itself overflowed
-        np.full(19, 3.11463753e306),  # features beyond the float64 range
+        (np.r_[1e300, np.zeros(17)], "q holds an angle of 1e+300"),
+        (np.full(2, 8.98846567e307), "q holds an angle of 8.988e+307"),
+        (np.stack([np.full(19, 0.3), np.full(19, -3.11463753e306)]), "q: array 1 holds"),
+        (np.r_[2 * np.pi * 18 + 1e-9, np.zeros(17)], "q holds an angle of 113.1"),
     ],
 )
-def test_fuzz_found_huge_angles_give_features_or_an_error(q):
-    try:
-        f = fourier_features(q)
-    except ValueError as exc:
-        assert "float64 range" in str(exc)
-    else:
-        assert np.all(np.isfinite(f))
+def test_angles_beyond_the_bound_are_refused(q, where):
+    # features of such angles are huge or overflow: not joint angles in radians
+    with pytest.raises(ValueError, match=rf"{re.escape(where)}.*beyond 2\*pi\*n_joints = "):
+        fourier_features(q)
+
+
+def test_angles_up_to_the_bound_give_features_linear_in_them():
+    # with detrend the signal is linear in q: features at the bound scale with it
+    n = 18
+    one = np.r_[1.0, np.zeros(n - 1)]
+    top = 2 * np.pi * n
+    for method in ("matmul", "fft"):
+        f = fourier_features(np.stack([top * one, -top * one]), detrend=True, method=method)
+        ref = fourier_features(one, detrend=True, method=method)
+        np.testing.assert_allclose(f, [top * ref, top * ref], rtol=1e-12)
+
+
+def test_huge_coordinates_give_the_angles_of_the_shape():
+    # points_to_angles scales the outline first: products of 1e300 coordinates stay finite
+    square = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
+    for scale in (1e300, 1.7e308, 1e-300):
+        np.testing.assert_allclose(points_to_angles(square * scale), np.full(4, np.pi / 2))

@@ -207,8 +207,18 @@ def test_plain_npz(tmp_path):
 
 
 def test_missing_file(tmp_path):
-    with pytest.raises(FileNotFoundError):
-        load_model(tmp_path / "none.tcm")
+    # one error for every model-file problem, and still the OSError callers expect
+    for read in (load_model, model_info):
+        with pytest.raises(FileNotFoundError, match=r"none\.tcm: no such model file"):
+            read(tmp_path / "none.tcm")
+        with pytest.raises(ModelFileError, match=r"none\.tcm: no such model file"):
+            read(tmp_path / "none.tcm")
+
+
+def test_a_directory_is_not_a_model_file(tmp_path):
+    for read in (load_model, model_info):
+        with pytest.raises(ModelFileError, match=r"is a directory, not a model file"):
+            read(tmp_path)
 
 
 @pytest.mark.parametrize("cut", [0.3, 0.6, 0.9, 0.99])

@@ -165,7 +165,7 @@ def test_learned_nominal_size():
 
 
 def test_ragged_grid_names_the_argument():
-    with pytest.raises(InputError, match="grid must be a rectangular array"):
+    with pytest.raises(InputError, match="grid: rows have different lengths"):
         inspect([[0, 1, 1], [1, 1]])
 
 

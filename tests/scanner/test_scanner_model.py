@@ -222,6 +222,13 @@ def test_load_refuses_damaged_and_foreign_files(tmp_path):
             ScannerModel.load(tmp_path / name)
 
 
+def test_load_names_a_directory_and_a_missing_file(tmp_path):
+    with pytest.raises(ModelFileError, match="is a directory, not a model file"):
+        ScannerModel.load(tmp_path)
+    with pytest.raises(FileNotFoundError, match=r"none\.tcm: no such model file"):
+        ScannerModel.load(tmp_path / "none.tcm")
+
+
 def test_pickled_arrays_are_refused(tmp_path):
     path, arrays = _saved(tmp_path)
     arrays["labels"] = arrays["labels"].astype(object)

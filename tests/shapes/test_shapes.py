@@ -166,7 +166,7 @@ def test_load_mpeg7_missing_folder(tmp_path):
 
 
 def test_from_mask_ragged_names_the_argument():
-    with pytest.raises(ShapeError, match="image must be a rectangular array"):
+    with pytest.raises(ShapeError, match="image: rows have different lengths"):
         shapes.from_mask([[0, 1, 1], [1, 1]])
 
 

@@ -21,9 +21,10 @@ import numpy as np
 
 from .._dask import atomic_output, in_slices
 from .._lazy import import_extra
+from .._validation import check_angle_range
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
-from .options import check_radians, parse_angle_rows, read_angle_file
+from .options import parse_angle_rows, read_angle_file
 
 #: Arrays read, featurised and classified per step.
 BLOCK_ROWS = 65536
@@ -181,7 +182,7 @@ def _check_block(src: Path, X: np.ndarray, n_joints: int | None, done: int) -> N
     if bad.any():
         raise ValueError(f"{src}: array {done + int(np.flatnonzero(bad)[0])} holds NaN or "
                          "infinite angles")  # fmt: skip
-    check_radians(X, str(src), done)
+    check_angle_range(X, str(src), first=done)
 
 
 def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:

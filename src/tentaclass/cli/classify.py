@@ -11,7 +11,6 @@ import numpy as np
 
 from .options import (
     AngleList,
-    check_radians,
     dask_client,
     files_options,
     parse_angle_rows,
@@ -174,8 +173,10 @@ def classify(
         X = angles[None, :]
     else:
         X = _read_stdin()
-    X = as_angle_array(X, "angle array", min_joints=3)
-    check_radians(X, str(file) if file is not None else "ANGLES" if angles is not None else "stdin")
+    X = as_angle_array(
+        X, str(file) if file is not None else "ANGLES" if angles is not None else "stdin",
+        min_joints=3,
+    )  # fmt: skip
     _check_wraps(X)
     if model_file is None:
         model, info = builtin_model(X.shape[1])

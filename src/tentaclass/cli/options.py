@@ -80,25 +80,6 @@ def load_npy(path: Path) -> np.ndarray:
         raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
 
 
-def check_radians(X: np.ndarray, where: str, first: int = 0) -> None:
-    """Refuse arrays turning by more laps than a float counts: not joint angles in radians.
-
-    ``X`` is (n_arrays, n_joints) and finite; ``first`` is the index of its
-    first array in the file named by ``where``.
-
-    Examples
-    --------
-    >>> check_radians(np.full((2, 16), 1e300), "a.npy", first=10)
-    Traceback (most recent call last):
-    ...
-    ValueError: a.npy: array 10 turns by too many laps to count: are these joint angles in radians?
-    """
-    huge = ~(np.abs(X).sum(axis=-1) < 2.0**53 * 2 * np.pi)
-    if huge.any():
-        raise ValueError(f"{where}: array {first + int(np.flatnonzero(huge)[0])} turns by too "
-                         "many laps to count: are these joint angles in radians?")  # fmt: skip
-
-
 def no_rows(source: object) -> ValueError:
     """The error for an angle file or stream without a single angle array."""
     return ValueError(f"{source}: no rows (no angle arrays in it)")

@@ -16,7 +16,6 @@ from .._validation import as_angle_array
 from ..io import save_model
 from .options import (
     OutputFile,
-    check_radians,
     dask_client,
     finite,
     load_npy,
@@ -132,8 +131,7 @@ def read_training_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     skipped. CSV labels are strings.
     """
     X, y = _read_npz(path) if path.suffix.lower() == ".npz" else _read_csv(path)
-    X = as_angle_array(X, "X", min_joints=3)
-    check_radians(X, str(path))
+    X = as_angle_array(X, str(path), min_joints=3)
     if y.shape[0] != X.shape[0]:
         raise ValueError(f"{path}: {X.shape[0]} angle arrays but {y.shape[0]} labels")
     if np.unique(y).size < 2:

@@ -21,7 +21,6 @@ two-core machine).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
@@ -180,7 +179,7 @@ def _magnitudes(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> N
     """``out = |(z[:, :k] - offset[:k]) + i (z[:, k:2k] - offset[k:])|``; overwrites ``z[:, :2k]``.
 
     sqrt of the sum of squares: np.hypot is several times slower and the
-    overflow it guards against cannot happen with finite angles. In place on
+    overflow it guards against cannot happen with angles in range. In place on
     ``z`` (a temporary of the caller), so no array is allocated: as fast as a
     compiled loop, without loading a compiler into the process.
     """
@@ -207,39 +206,6 @@ def _features_fft(
         out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_harmonics + 1])
 
 
-#: Rows with an angle beyond this are computed scaled down (squares would overflow).
-_SCALE_ABOVE = 2.0**400
-
-
-def _rescaled_rows(
-    kernel: Callable[..., None],
-    q: FloatArray,
-    n_harmonics: int,
-    detrend: bool,
-    period: float,
-    canonicalize: bool,
-    *,
-    out: FloatArray,
-    rows: np.ndarray,
-) -> None:
-    """Features of rows of huge angles as ``s * features(q / s, period / s)``, into ``out[rows]``.
-
-    The signal ``E`` is linear in ``(q, period)``, so its spectrum scales with
-    them; ``s`` is a power of two, so the scaling itself is exact.
-    """
-    for qi, row in zip(q, rows, strict=True):
-        s = np.ldexp(1.0, int(np.frexp(np.abs(qi).max())[1]) - 1)
-        one = np.empty((1, n_harmonics))
-        kernel(qi[None] / s, n_harmonics, detrend, period / s, canonicalize, one)
-        with np.errstate(over="ignore"):
-            out[row] = one[0] * s
-        if not np.all(np.isfinite(out[row])):
-            raise InputError(
-                f"q holds angles up to {np.abs(qi).max():g}: its Fourier features "
-                "exceed the float64 range"
-            )
-
-
 @blockwise
 def fourier_features(
     q: ArrayLike,
@@ -257,8 +223,9 @@ def fourier_features(
     Parameters
     ----------
     q : array_like of shape (..., n_joints)
-        Relative joint angles, at least 2 (two links out and back are the
-        smallest closed chain). Leading axes are a batch.
+        Relative joint angles in radians, at least 2 (two links out and back
+        are the smallest closed chain), each within ``+-2*pi*n_joints`` (a chain
+        closes at most ``n_joints / 2`` laps). Leading axes are a batch.
     n_harmonics : int, optional
         Keep frequencies ``1..n_harmonics``; default all of ``1..floor(n_joints/2)``.
     detrend : bool, default=False
@@ -285,6 +252,12 @@ def fourier_features(
     features : ndarray of shape (..., n_harmonics)
         ``|DFT(E)|_k`` for ``k = 1..n_harmonics``, with
         ``E_k = t_k - period * k / n`` (eq 4.5).
+
+    Raises
+    ------
+    tentaclass.errors.InputError
+        A ``ValueError``: ``q`` is ragged, empty, holds NaN or infinity, or an
+        angle beyond ``2*pi*n_joints`` (not radians), or an option is out of range.
 
     Notes
     -----
@@ -322,15 +295,7 @@ def fourier_features(
     flat = np.ascontiguousarray(q.reshape(-1, n))
     out = np.empty((flat.shape[0], n_harmonics))
     kernel = _features_matmul if method == "matmul" else _features_fft
-    args = (n_harmonics, bool(detrend), period, bool(canonicalize))
-    huge = np.abs(flat).max(axis=1) > _SCALE_ABOVE
-    if huge.any():
-        tame = np.empty((int(np.count_nonzero(~huge)), n_harmonics))
-        kernel(np.ascontiguousarray(flat[~huge]), *args, tame)
-        out[~huge] = tame
-        _rescaled_rows(kernel, flat[huge], *args, out=out, rows=np.flatnonzero(huge))
-    else:
-        kernel(flat, *args, out)
+    kernel(flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
     if normalize:
         out /= n
     return out.reshape(*batch, n_harmonics)

@@ -22,9 +22,6 @@ from ..geometry import angles_to_points, points_to_angles, resample_closed
 
 __all__ = ["last_lap"]
 
-#: Largest joint angle whose multiples of a turn float64 still resolves.
-_MAX_ANGLE = 1e100
-
 
 def _closure(points: FloatArray, t: FloatArray) -> tuple[int, float] | None:
     """Link ``m`` and fraction ``u`` where the last lap starts, or None.
@@ -104,11 +101,6 @@ def last_lap(
     flat = q.reshape(-1, n)
     # Clockwise wraps are mirrored (negated) but not reversed: reversing would
     # move the approach links to the end of the chain.
-    if np.abs(flat).max() > _MAX_ANGLE:
-        raise InputError(
-            f"q holds an angle of {np.abs(flat).max():g}: beyond {_MAX_ANGLE:g} the turns "
-            "of a lap cannot be resolved"
-        )
     flat = np.where(flat.sum(axis=1, keepdims=True) < 0, -flat, flat)
     points = angles_to_points(flat, link_lengths)
     t = np.cumsum(flat, axis=1)

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from .. import classifiers
-from ..errors import InputError, ModelFileError
+from ..errors import InputError, ModelFileError, ModelFileNotFoundError
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "load_model", "model_info", "save_model"]
 
@@ -587,11 +587,37 @@ def _check_estimator(est: Any, name: str) -> None:
         raise ModelFileError(f"metadata: bad {name} parameters or state: {exc}") from None
 
 
+def model_path(path: str | os.PathLike) -> Path:
+    """``path`` as a Path, refused unless it names a file.
+
+    Raises
+    ------
+    tentaclass.errors.ModelFileNotFoundError
+        Nothing at ``path`` (a ``ModelFileError`` and a ``FileNotFoundError``).
+    tentaclass.errors.ModelFileError
+        A directory, or anything else that is not a file, at ``path``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> model_path(tempfile.mkdtemp())
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.ModelFileError: ...: is a directory, not a model file
+    """
+    path = Path(path)
+    if path.is_file():
+        return path
+    if path.is_dir():
+        raise ModelFileError(f"{path}: is a directory, not a model file")
+    if path.exists():
+        raise ModelFileError(f"{path}: not a regular file, so not a model file")
+    raise ModelFileNotFoundError(f"{path}: no such model file")
+
+
 def _open(path: str | os.PathLike) -> tuple[dict, dict[str, np.ndarray], Path]:
     """Metadata and checked arrays of a model file."""
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such model file")
+    path = model_path(path)
     try:
         zf = zipfile.ZipFile(path)
     except _ZIP_ERRORS:
@@ -692,13 +718,14 @@ def load_model(path: str | os.PathLike) -> Any:
     Raises
     ------
     tentaclass.errors.ModelFileError
-        The file is not a tentaclass model (text, random zip, plain ``.npz``),
+        ``path`` is a directory, or the file is not a tentaclass model (text,
+        random zip, plain ``.npz``),
         is truncated or damaged (bad zip, checksum mismatch), has an unknown
         or newer format version, names a class outside the allow-list, holds
         an object or structured dtype, a dtype that is not a string, or
         parameters and arrays that do not fit together.
-    FileNotFoundError
-        No file at ``path``.
+    tentaclass.errors.ModelFileNotFoundError
+        No file at ``path``: a ``ModelFileError`` and a ``FileNotFoundError``.
 
     Examples
     --------

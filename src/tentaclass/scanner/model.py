@@ -288,7 +288,8 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         Raises
         ------
         ModelFileError
-            If the file is missing, not a model file, from an unknown format
+            If the file is missing (:class:`~tentaclass.errors.ModelFileNotFoundError`),
+            a directory, not a model file, from an unknown format
             version, holds another kind of model, or its contents are
             inconsistent.
 
@@ -304,10 +305,9 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         ['circle', 'circle']
         """
         from ..io import load_model
+        from ..io._model_file import model_path
 
-        path = Path(path)
-        if not path.is_file():
-            raise ModelFileError(f"{path}: no such model file")
+        path = model_path(path)
         if _is_legacy_npz(path):
             model = cls._load_npz(path)
             warnings.warn(

@@ -17,7 +17,6 @@ import numpy as np
 
 from .._typing import ArrayLike, FloatArray, IntArray
 from .._validation import as_angle_array, check_positive_float
-from ..errors import InputError
 
 __all__ = ["GraspState", "grasp_state"]
 
@@ -113,8 +112,6 @@ def grasp_state(
     turning = qs.sum(axis=-1)
     laps = np.where(approach, turning + np.pi / 2, turning) / (2 * np.pi)
     laps = np.where(all_straight_tail & (np.abs(turning) < zero_tol), 0.0, laps)
-    if not np.all(np.abs(laps) < 2.0**53):
-        raise InputError("q turns by too many laps to count: are these joint angles in radians?")
     state = np.where(laps < 1 - tol, STATES[0], np.where(laps <= 1 + tol, STATES[1], STATES[2]))
     return GraspState(
         state=np.asarray(state),

@@ -1,0 +1,92 @@
+"""The input checks every public entry point shares (tentaclass._validation)."""
+
+import numpy as np
+import pytest
+from sklearn.pipeline import make_pipeline
+
+from tentaclass._validation import angle_limit, as_angle_array, check_angle_range
+from tentaclass.classifiers import (
+    FourierClassifier,
+    PNNClassifier,
+    RBFNetworkClassifier,
+    ShiftNNClassifier,
+    TentacleClassifier,
+)
+from tentaclass.datasets import thesis_tentacle
+from tentaclass.errors import InputError, ShapeError
+from tentaclass.features import AngleSpectrum, FourierFeatures, LastLap
+
+SQUARE = np.tile([0, 0, 0, np.pi / 2], 4)
+
+
+@pytest.fixture(scope="module")
+def thesis():
+    return thesis_tentacle(16, return_X_y=True)
+
+
+RAGGED = [list(SQUARE), list(SQUARE[:15])]
+
+
+@pytest.mark.parametrize(
+    "make",
+    [
+        FourierClassifier,
+        PNNClassifier,
+        RBFNetworkClassifier,
+        ShiftNNClassifier,
+        lambda: make_pipeline(FourierFeatures(), PNNClassifier()),
+        FourierFeatures,
+        LastLap,
+        AngleSpectrum,
+    ],
+)
+def test_ragged_rows_are_named_by_fit_and_predict(thesis, make):
+    X, y = thesis
+    message = r"^X: rows have different lengths \(16 and 15, rows 0 and 1\)$"
+    with pytest.raises(ShapeError, match=message):
+        make().fit(RAGGED, y[:2])
+    model = make().fit(X, y)
+    use = model.predict if hasattr(model, "predict") else model.transform
+    with pytest.raises(ShapeError, match=r"^X: rows have different lengths \(16 and 15"):
+        use(RAGGED)
+
+
+@pytest.mark.xfail(reason="TentacleClassifier validates with scikit-learn's own check", strict=True)
+def test_tentacle_classifier_names_ragged_rows(thesis):
+    with pytest.raises(ShapeError, match="X: rows have different lengths"):
+        TentacleClassifier().fit(RAGGED, thesis[1][:2])
+
+
+@pytest.mark.parametrize(
+    "x, where",
+    [
+        ([[1.0, 2.0], [3.0]], "2 and 1, rows 0 and 1"),
+        ([[1.0, 2.0], [3.0, 4.0], 5.0], "2 and a number, rows 0 and 2"),
+        ([[[1.0, 2.0], [3.0, 4.0]], [[1.0, 2.0], [3.0]]], r"2 and 1, rows \[0, 0\] and \[1, 1\]"),
+    ],
+)
+def test_ragged_input_names_the_rows(x, where):
+    with pytest.raises(ShapeError, match=rf"^q: rows have different lengths \({where}\)$"):
+        as_angle_array(x, "q", min_joints=1)
+
+
+def test_angles_within_the_limit_pass_and_beyond_are_refused():
+    n = 16
+    top = angle_limit(n)
+    assert top == pytest.approx(2 * np.pi * n)
+    ok = np.tile(SQUARE, (3, 1))
+    ok[1, 3] = -top
+    np.testing.assert_array_equal(as_angle_array(ok, "q"), ok)
+    bad = ok.copy()
+    bad[2, 5] = np.nextafter(top, np.inf)
+    with pytest.raises(InputError, match=r"^q: array 2 holds an angle of 100.5, beyond 2\*pi\*"):
+        as_angle_array(bad, "q")
+    with pytest.raises(InputError, match=r"^f: array 7 holds"):
+        check_angle_range(bad, "f", first=5)
+    # only joint angles are bounded: velocities and torques may be large
+    assert as_angle_array(bad, "qd", bounded=False) is not None
+
+
+def test_an_angle_check_refuses_nan_it_is_given():
+    with pytest.raises(InputError, match="holds an angle of nan"):
+        check_angle_range(np.r_[np.nan, SQUARE], "q")
