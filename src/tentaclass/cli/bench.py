@@ -7,11 +7,10 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .._validation import MAX_NOISE
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
 from ..wrapping import MAX_LINKS
-from .options import dask_client, finite, random_state_option, scheduler_option
+from .options import dask_client, noise_option, random_state_option, scheduler_option
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ucr", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "tentacle,thesis,shift-nn-lp,lap-shape-nn,1nn-euclidean,svc,minirocket"
@@ -78,9 +77,7 @@ def _pair(ctx, param, value):
 @click.option("--links", type=click.IntRange(min=3, max=MAX_LINKS), default=64,
               show_default=True)  # fmt: skip
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
-@click.option("--noise", type=click.FloatRange(min=0, max=MAX_NOISE), default=0.0,
-              show_default=True, callback=finite,
-              help="Joint-angle noise sigma in radians (at most 2*pi).")  # fmt: skip
+@noise_option(0.0, "Joint-angle noise sigma in radians (at most 2*pi).")
 @click.option("--copies", type=click.IntRange(min=1, max=10_000), default=1,
               show_default=True,
               help="MPEG-7: wraps per shape; extra ones only train.")  # fmt: skip

@@ -13,6 +13,7 @@ from .options import (
     AngleList,
     dask_client,
     files_options,
+    input_file_option,
     parse_angle_rows,
     read_angle_file,
     scheduler_option,
@@ -114,17 +115,13 @@ def builtin_model(n_links: int) -> tuple[Any, dict]:
 
 @click.command()
 @click.argument("angles", type=AngleList(), required=False)
-@click.option(
-    "--file",
-    "file",
-    type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="Text/CSV file with one angle array per row, a .npy or a Parquet file.",
+@input_file_option(
+    "--file", "file", "Text/CSV file with one angle array per row, a .npy or a Parquet file."
 )
-@click.option(
+@input_file_option(
     "--model",
     "model_file",
-    type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="Model file (.tcm, from 'tentaclass train') to use instead of the bundled model.",
+    "Model file (.tcm, from 'tentaclass train') to use instead of the bundled model.",
 )
 @click.option(
     "--reject",

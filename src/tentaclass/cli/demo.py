@@ -7,10 +7,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .._validation import MAX_NOISE
 from ..classifiers import FourierClassifier
 from ..datasets import thesis_tentacle
-from .options import finite, random_state_option
+from .options import noise_option, random_state_option
 
 
 def perturbed_variants(
@@ -97,14 +96,7 @@ def write_wrap_figures(out: Path) -> list[Path]:
     show_default=True,
     help="Folder for the figures.",
 )
-@click.option(
-    "--noise",
-    type=click.FloatRange(min=0, max=MAX_NOISE),
-    default=0.02,
-    show_default=True,
-    callback=finite,
-    help="Joint-noise sigma of the perturbed copies, radians (at most 2*pi).",
-)
+@noise_option(0.02, "Joint-noise sigma of the perturbed copies, radians (at most 2*pi).")
 @random_state_option("Seed of the perturbed variants.")
 @click.option("--no-figures", is_flag=True, help="Skip writing figures.")
 def demo(out: Path, noise: float, random_state: int, no_figures: bool) -> None:

@@ -185,6 +185,29 @@ def finite(ctx, param, value):
     return value
 
 
+def number_option(
+    name: str, type: click.FloatRange, default: float, help: str
+) -> Callable[[_Command], _Command]:
+    """A float option ``name`` in the range ``type``, finite, with its default shown."""
+    return click.option(
+        name, type=type, default=default, show_default=True, callback=finite, help=help
+    )
+
+
+def input_file_option(name: str, dest: str, help: str) -> Callable[[_Command], _Command]:
+    """An option naming a file that must exist (a folder is refused), passed as a Path."""
+    return click.option(
+        name, dest, type=click.Path(exists=True, dir_okay=False, path_type=Path), help=help
+    )
+
+
+def noise_option(default: float, help: str) -> Callable[[_Command], _Command]:
+    """``--noise``: a joint-noise sigma in radians, from 0 to ``MAX_NOISE`` (2*pi)."""
+    from .._validation import MAX_NOISE
+
+    return number_option("--noise", click.FloatRange(min=0, max=MAX_NOISE), default, help)
+
+
 def object_options(verb: str) -> Callable[[_Command], _Command]:
     """The options that name an object (``--shape``, ``--size``, ``--vertices``, ``--mask``)."""
 
@@ -195,8 +218,7 @@ def object_options(verb: str) -> Callable[[_Command], _Command]:
             click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' "
                          "of a rectangle (default 4)."),
             click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'."),
-            click.option("--mask", type=click.Path(exists=True, dir_okay=False, path_type=Path),
-                         help=f"Binary image: {verb} its largest object."),
+            input_file_option("--mask", "mask", f"Binary image: {verb} its largest object."),
         ]):  # fmt: skip
             func = option(func)
         return func

@@ -17,8 +17,9 @@ from ..io import save_model
 from .options import (
     OutputFile,
     dask_client,
-    finite,
+    input_file_option,
     load_npy,
+    number_option,
     parse_angle,
     predict_on,
     progress_bar,
@@ -299,11 +300,8 @@ def train_for_chain(
 
 
 @click.command()
-@click.option(
-    "--data",
-    "data",
-    type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help=".npz with arrays X (n_samples, n_joints) and y, or a CSV: angles..., label.",
+@input_file_option(
+    "--data", "data", ".npz with arrays X (n_samples, n_joints) and y, or a CSV: angles..., label."
 )
 @click.option(
     "--outlines",
@@ -312,24 +310,19 @@ def train_for_chain(
     help="Object outlines to wrap (a glob such as 'shapes/*.png'; images, x,y CSV or .npy). "
     "The class is the file name without a trailing number (apple-3.png -> apple).",
 )
-@click.option(
+@input_file_option(
     "--labels",
     "labels_file",
-    type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="With --outlines: CSV of 'file,label' rows instead of labels from file names.",
+    "With --outlines: CSV of 'file,label' rows instead of labels from file names.",
 )
 @click.option(
     "--links", "n_links", type=click.IntRange(min=3, max=100_000),
     help="With --outlines: links of the robot's chain.",
 )  # fmt: skip
-@click.option(
-    "--link-length",
-    type=click.FloatRange(min=0, min_open=True),
-    default=1.0,
-    show_default=True,
-    callback=finite,
-    help="With --outlines: length of one link.",
-)
+@number_option(
+    "--link-length", click.FloatRange(min=0, min_open=True), 1.0,
+    "With --outlines: length of one link.",
+)  # fmt: skip
 @click.option("--laps", "laps_text", help="Laps the chain covers, MIN,MAX [default: 1,2].")
 @click.option(
     "--diameters", "diameters_text",
