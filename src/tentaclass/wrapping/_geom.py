@@ -215,6 +215,30 @@ def _box_gap2(boxes, b, x, y):
 
 
 @nb.njit(cache=True, inline="always")
+def _next_near_edge(boxes, m, i, x, y, far):
+    """The first edge ``>= i`` whose block and group boxes lie within ``far`` of ``(x, y)``.
+
+    ``far`` is a squared distance; returns ``m`` past the last edge. An edge
+    inside a block is returned as it is: the walk let its block through on
+    entering it. Walk every near edge with ``i = _next_near_edge(.., i + 1, ..)``.
+    """
+    if i >= m:
+        return m
+    if i % BOX_EDGES:
+        return i
+    nb_ = _n_blocks(m)
+    b = i // BOX_EDGES
+    while b < nb_:
+        if b % BOX_GROUP == 0 and _box_gap2(boxes, nb_ + b // BOX_GROUP, x, y) > far:
+            b += BOX_GROUP
+        elif _box_gap2(boxes, b, x, y) > far:
+            b += 1
+        else:
+            return b * BOX_EDGES
+    return m
+
+
+@nb.njit(cache=True, inline="always")
 def _foot(x, y, x0, y0, x1, y1):
     """Nearest point of segment ``(x0, y0)-(x1, y1)`` to ``(x, y)``: ``(t, cx, cy, d^2)``."""
     dx, dy = x1 - x0, y1 - y0
@@ -320,18 +344,12 @@ def _outline_candidates(ax, ay, ux, uy, ln, obj, boxes, angs, px, py, on, c):
     """
     m = obj.shape[0]
     far = ln * ln * (1.0 + _REACH_MARGIN)
-    nb_ = _n_blocks(m)
-    for g in range(boxes.shape[0] - nb_):
-        if _box_gap2(boxes, nb_ + g, ax, ay) > far:
-            continue
-        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
-            if _box_gap2(boxes, b, ax, ay) > far:
-                continue
-            lo = b * BOX_EDGES
-            for i in range(lo, min(lo + BOX_EDGES, m)):
-                i2 = i + 1 if i + 1 < m else 0
-                c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0],
-                                     obj[i2, 1], True, True, angs, px, py, on, c)  # fmt: skip
+    i = _next_near_edge(boxes, m, 0, ax, ay, far)
+    while i < m:
+        i2 = i + 1 if i + 1 < m else 0
+        c = _rest_candidates(ax, ay, ux, uy, ln, obj[i, 0], obj[i, 1], obj[i2, 0],
+                             obj[i2, 1], True, True, angs, px, py, on, c)  # fmt: skip
+        i = _next_near_edge(boxes, m, i + 1, ax, ay, far)
     return c
 
 
@@ -431,18 +449,12 @@ def inside_boxed(x, y, obj, eps, boxes):
     if not wn:
         return False
     far = 4.0 * eps * eps
-    for g in range(ng):
-        if _box_gap2(boxes, nb_ + g, x, y) > far:
-            continue
-        for b in range(g * BOX_GROUP, min(g * BOX_GROUP + BOX_GROUP, nb_)):
-            if _box_gap2(boxes, b, x, y) > far:
-                continue
-            lo = b * BOX_EDGES
-            for i in range(lo, min(lo + BOX_EDGES, m)):
-                i2 = i + 1 if i + 1 < m else 0
-                d = _foot(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])[3]
-                if not d > eps * eps:
-                    return False
+    i = _next_near_edge(boxes, m, 0, x, y, far)
+    while i < m:
+        i2 = i + 1 if i + 1 < m else 0
+        if not _foot(x, y, obj[i, 0], obj[i, 1], obj[i2, 0], obj[i2, 1])[3] > eps * eps:
+            return False
+        i = _next_near_edge(boxes, m, i + 1, x, y, far)
     return True
 
 
