@@ -47,7 +47,7 @@ def as_angle_array(
 
     Checks rank before size: a scalar is refused, the last axis must hold at
     least ``min_joints`` angles and no axis may be empty. With ``bounded`` the
-    angles must lie within :func:`angle_limit` (see :func:`check_angle_range`).
+    angles must lie within ``MAX_ANGLE`` (see :func:`check_angle_range`).
     """
     arr = as_rectangular_array(q, name) if not isinstance(q, np.ndarray) else q
     arr = as_float_array(arr, name, min_ndim=1, allow_nonfinite=True)
@@ -66,48 +66,40 @@ def as_angle_array(
     return arr
 
 
-def angle_limit(n_joints: int) -> float:
-    """Largest joint angle, in radians, of a chain of ``n_joints`` joints: ``2*pi*n_joints``.
-
-    A chain of ``n`` links closes at most ``n / 2`` laps, so a joint that turns
-    by ``n`` whole turns is not a joint angle in radians: it is a unit mix-up
-    (degrees, encoder counts) or garbage, whose features would be meaningless
-    numbers that grow with it until they overflow.
-
-    >>> round(angle_limit(16), 2)
-    100.53
-    """
-    return 2 * np.pi * n_joints
+#: Largest joint angle, radians: 2**20 (about a million) turns. No joint of a chain
+#: turns that far (a chain of ``n`` links closes at most ``n / 2`` laps), and beyond
+#: it float64 holds an angle's direction to worse than 1e-9 rad.
+MAX_ANGLE = 2 * np.pi * 2**20
 
 
 def check_angle_range(q: FloatArray, name: str, *, first: int = 0) -> None:
-    """Refuse joint angles beyond :func:`angle_limit` of their chain length.
+    """Refuse joint angles beyond ``MAX_ANGLE`` (2**20 turns) in magnitude.
 
-    ``q`` is a finite array of shape ``(..., n_joints)``; the message names the
-    first array (row, counted from ``first``) holding such an angle.
+    Such numbers are a unit mix-up (encoder counts, say) or garbage: their
+    features are meaningless numbers that grow with them until they overflow.
+    ``q`` has shape ``(..., n_joints)``; the message names the first array
+    (row, counted from ``first``) holding such an angle.
 
     >>> check_angle_range(np.r_[1e300, np.zeros(17)], "q")
     Traceback (most recent call last):
     ...
-    tentaclass.errors.InputError: q holds an angle of 1e+300, beyond 2*pi*n_joints = 113.1 \
-rad for 18 joints: are these joint angles in radians?
-    >>> check_angle_range(np.full((3, 4), 100.0), "a.npy", first=10)
+    tentaclass.errors.InputError: q holds an angle of 1e+300 rad, beyond 2**20 turns \
+(6.588e+06 rad): are these joint angles in radians?
+    >>> check_angle_range(np.full((3, 4), -1e7), "a.npy", first=10)
     Traceback (most recent call last):
     ...
-    tentaclass.errors.InputError: a.npy: array 10 holds an angle of 100, beyond 2*pi*n_joints \
-= 25.13 rad for 4 joints: are these joint angles in radians?
+    tentaclass.errors.InputError: a.npy: array 10 holds an angle of -1e+07 rad, beyond 2**20 \
+turns (6.588e+06 rad): are these joint angles in radians?
     """
-    n = q.shape[-1]
-    limit = angle_limit(n)
-    flat = q.reshape(-1, n)
+    flat = q.reshape(-1, q.shape[-1])
     # "not <=" refuses NaN too, for a caller that did not check finiteness
-    bad = ~(np.abs(flat) <= limit)
+    bad = ~(np.abs(flat) <= MAX_ANGLE)
     if bad.any():
         row, col = np.argwhere(bad)[0]
         where = name if q.ndim == 1 else f"{name}: array {first + int(row)}"
         raise InputError(
-            f"{where} holds an angle of {flat[row, col]:.4g}, beyond 2*pi*n_joints = "
-            f"{limit:.4g} rad for {n} joints: are these joint angles in radians?"
+            f"{where} holds an angle of {flat[row, col]:.4g} rad, beyond 2**20 turns "
+            f"({MAX_ANGLE:.4g} rad): are these joint angles in radians?"
         )
 
 

@@ -191,7 +191,7 @@ def test_classify_files_refuses_angles_that_are_not_radians(tmp_path):
     np.save(tmp_path / "a.npy", X)
     r = run("classify", "--files", str(tmp_path / "a.npy"), "--out-dir", str(tmp_path / "o"))
     assert r.exit_code == 1
-    assert "array 1 holds an angle of 1e+300, beyond 2*pi*n_joints" in one_line(r)
+    assert "array 1 holds an angle of 1e+300 rad, beyond 2**20 turns" in one_line(r)
     assert not (tmp_path / "o" / "a.labels.csv").exists()
 
 
@@ -201,9 +201,9 @@ def test_classify_refuses_angles_that_are_not_radians_as_classify_files(tmp_path
     np.save(tmp_path / "a.npy", X)
     r = run("classify", "--file", str(tmp_path / "a.npy"))
     assert r.exit_code == 1
-    assert f"{tmp_path / 'a.npy'}: array 1 holds an angle of 1e+300, beyond" in one_line(r)
+    assert f"{tmp_path / 'a.npy'}: array 1 holds an angle of 1e+300 rad, beyond" in one_line(r)
     r = run("classify", " ".join(["1e300"] * 16))
-    assert "ANGLES: array 0 holds an angle of 1e+300" in one_line(r)
+    assert "ANGLES: array 0 holds an angle of 1e+300 rad" in one_line(r)
 
 
 def test_train_refuses_angles_that_are_not_radians(tmp_path):
@@ -212,7 +212,7 @@ def test_train_refuses_angles_that_are_not_radians(tmp_path):
     np.savez(tmp_path / "d.npz", X=X, y=np.array(["a", "a", "b", "b"]))
     r = run("train", "--data", str(tmp_path / "d.npz"), "--out", str(tmp_path / "m.tcm"))
     assert r.exit_code == 1
-    assert "d.npz: array 2 holds an angle of -1e+300" in one_line(r)
+    assert "d.npz: array 2 holds an angle of -1e+300 rad" in one_line(r)
     assert not (tmp_path / "m.tcm").exists()
 
 
@@ -288,13 +288,13 @@ def test_an_output_file_in_a_missing_folder_is_refused_before_any_work(tmp_path)
     assert r.exit_code == 0 and (tmp_path / "w.png").stat().st_size > 0
 
 
-def test_classify_refuses_angles_of_degrees_in_every_form(tmp_path):
-    # 90 degrees per corner is within float range but not radians: beyond 2*pi*16
-    r = run("classify", " ".join(["0", "0", "0", "190"] * 4))
+def test_classify_refuses_encoder_counts(tmp_path):
+    # raw counts of a 2**24-step encoder: far beyond any joint angle in radians
+    r = run("classify", " ".join(["0", "0", "0", "4194304"] * 4 + ["1e7"]))
     assert r.exit_code == 1
     assert one_line(r) == (
-        "Error: ANGLES: array 0 holds an angle of 190, beyond 2*pi*n_joints = 100.5 rad "
-        "for 16 joints: are these joint angles in radians?"
+        "Error: ANGLES: array 0 holds an angle of 1e+07 rad, beyond 2**20 turns "
+        "(6.588e+06 rad): are these joint angles in radians?"
     )
 
 

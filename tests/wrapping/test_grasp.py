@@ -39,7 +39,7 @@ def test_bad_input():
         grasp_state([[]])
     with pytest.raises(InputError, match="complex"):  # the imaginary part must not be dropped
         grasp_state(np.array([1j, 1.0, 1.0, 1.0]))
-    with pytest.raises(InputError, match=r"beyond 2\*pi\*n_joints"):  # laps_rounded overflowed
+    with pytest.raises(InputError, match=r"beyond 2\*\*20 turns"):  # laps_rounded overflowed
         grasp_state(np.full(8, 1e300))
 
 

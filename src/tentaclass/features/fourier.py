@@ -224,8 +224,8 @@ def fourier_features(
     ----------
     q : array_like of shape (..., n_joints)
         Relative joint angles in radians, at least 2 (two links out and back
-        are the smallest closed chain), each within ``+-2*pi*n_joints`` (a chain
-        closes at most ``n_joints / 2`` laps). Leading axes are a batch.
+        are the smallest closed chain), each at most ``2**20`` turns in
+        magnitude. Leading axes are a batch.
     n_harmonics : int, optional
         Keep frequencies ``1..n_harmonics``; default all of ``1..floor(n_joints/2)``.
     detrend : bool, default=False
@@ -257,7 +257,7 @@ def fourier_features(
     ------
     tentaclass.errors.InputError
         A ``ValueError``: ``q`` is ragged, empty, holds NaN or infinity, or an
-        angle beyond ``2*pi*n_joints`` (not radians), or an option is out of range.
+        angle beyond ``2**20`` turns (not radians), or an option is out of range.
 
     Notes
     -----
