@@ -79,7 +79,7 @@ def test_physics_agreement_smoke(tmp_path, capsys):
 
 def test_physics_sim_to_real_smoke(tmp_path, capsys):
     pytest.importorskip("mujoco", reason="needs the physics extra: pip install mujoco")
-    args = ["--part", "thesis", "--thesis", "8", "--train", "120", "--jobs", "1"]
+    args = ["--part", "thesis", "--thesis", "8", "--train", "48", "--jobs", "1"]
     out = load("physics_sim_to_real").main([*args, "--out", str(tmp_path / "s.json")])
     assert (tmp_path / "s.json").exists()
     assert "TentacleClassifier()" in capsys.readouterr().out
