@@ -3,7 +3,9 @@ import pytest
 import shapely
 
 from tentaclass import shapes
+from tentaclass.errors import InputError, ShapeError
 from tentaclass.features import outline_to_series, znormalize
+from tentaclass.features.outline import SIGNATURES
 
 
 def _rot(p, a):
@@ -54,3 +56,34 @@ def test_znormalize_refuses_constant_series():
     np.testing.assert_allclose(znormalize([[1.0, 3.0]]), [[-1.0, 1.0]])
     with pytest.raises(ValueError, match="constant"):
         znormalize([[1.0, 2.0], [5.0, 5.0]])
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e300, 1.7e308])
+def test_series_of_outlines_at_any_scale(scale):
+    # found by probing: the cross products overflowed (huge) or vanished (tiny)
+    outline = np.array([(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)])
+    for signature in SIGNATURES:
+        ref = outline_to_series(outline, 32, signature=signature)
+        got = outline_to_series(outline * (scale / 2), 32, signature=signature)
+        np.testing.assert_allclose(got, ref, atol=1e-12, err_msg=signature)
+
+
+def test_outline_collapsed_by_its_scale_encloses_no_area():
+    flat = np.array([(0.0, 0.0), (1e300, 0.0), (1e300, 1e-300), (0.0, 1e-300)])
+    with pytest.raises(InputError, match="encloses no area"):
+        outline_to_series(flat)
+
+
+def test_znormalize_at_any_scale_is_the_same_series(rng):
+    X = rng.normal(size=(3, 20))
+    Z = znormalize(X)
+    # exact: series scaled by powers of two normalise to the same bits
+    np.testing.assert_array_equal(znormalize(X * 2.0**-1000), Z)
+    np.testing.assert_array_equal(znormalize(X * 2.0**1000), Z)
+    np.testing.assert_allclose(znormalize(X * 1e300), Z, atol=1e-12)
+
+
+@pytest.mark.parametrize("X", [np.array([]), np.zeros((3, 0)), np.zeros((0, 5))])
+def test_znormalize_refuses_empty_input(X):
+    with pytest.raises(ShapeError, match=r"X is empty \(shape"):
+        znormalize(X)

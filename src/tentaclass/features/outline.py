@@ -13,7 +13,7 @@ import numpy as np
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_float_array, check_choice, check_positive_int
 from ..errors import InputError, ShapeError
-from ..geometry import points_to_angles, resample_closed
+from ..geometry import _power_of_two_scale, points_to_angles, resample_closed
 from .turning import periodic_signal
 
 __all__ = ["SIGNATURES", "outline_to_series", "znormalize"]
@@ -66,6 +66,10 @@ def outline_to_series(
         raise ShapeError(f"outline must have shape (n_vertices, 2), got {pts.shape}")
     if len(pts) < 3:
         raise ShapeError(f"outline must have at least 3 vertices, got {len(pts)}")
+    if not 1e-100 < np.abs(pts).max() < 1e100:
+        # both series are invariant to size: scaled exactly (by a power of two) into
+        # [1, 2), the cross products below neither overflow nor vanish
+        pts = pts / _power_of_two_scale(pts)
     x, y = pts[:, 0], pts[:, 1]
     cross = x * np.roll(y, -1) - np.roll(x, -1) * y
     area = cross.sum() / 2
@@ -111,9 +115,14 @@ def znormalize(X: ArrayLike, name: str = "X") -> FloatArray:
     [[-1.225, 0.0, 1.225]]
     """
     X = as_float_array(X, name, min_ndim=1)
-    sd = X.std(axis=-1, keepdims=True)
+    if X.size == 0:
+        raise ShapeError(f"{name} is empty (shape {X.shape}): there is no series to normalise")
+    # each series scaled exactly (by a power of two) into [1, 2): the same result,
+    # and its squares neither overflow nor vanish
     scale = np.abs(X).max(axis=-1, keepdims=True)
-    flat = ~(sd > 1e-12 * np.maximum(scale, 1e-300))
+    X = X / np.ldexp(1.0, np.frexp(np.where(scale > 0, scale, 1.0))[1] - 1)
+    sd = X.std(axis=-1, keepdims=True)
+    flat = ~(sd > 1e-12 * np.abs(X).max(axis=-1, keepdims=True))
     if flat.any():
         rows = np.flatnonzero(flat.reshape(-1))
         raise InputError(
