@@ -114,19 +114,19 @@ def znormalize(X: ArrayLike, name: str = "X") -> FloatArray:
     >>> znormalize([[1.0, 2.0, 3.0]]).round(3).tolist()
     [[-1.225, 0.0, 1.225]]
     """
-    X = as_float_array(X, name, min_ndim=1)
-    if X.size == 0:
-        raise ShapeError(f"{name} is empty (shape {X.shape}): there is no series to normalise")
+    arr = as_float_array(X, name, min_ndim=1)
+    if arr.size == 0:
+        raise ShapeError(f"{name} is empty (shape {arr.shape}): there is no series to normalise")
     # each series scaled exactly (by a power of two) into [1, 2): the same result,
     # and its squares neither overflow nor vanish
-    scale = np.abs(X).max(axis=-1, keepdims=True)
-    X = X / np.ldexp(1.0, np.frexp(np.where(scale > 0, scale, 1.0))[1] - 1)
-    sd = X.std(axis=-1, keepdims=True)
-    flat = ~(sd > 1e-12 * np.abs(X).max(axis=-1, keepdims=True))
+    scale = np.abs(arr).max(axis=-1, keepdims=True)
+    Z = arr / np.ldexp(1.0, np.frexp(np.where(scale > 0, scale, 1.0))[1] - 1)
+    sd = Z.std(axis=-1, keepdims=True)
+    flat = ~(sd > 1e-12 * np.abs(Z).max(axis=-1, keepdims=True))
     if flat.any():
         rows = np.flatnonzero(flat.reshape(-1))
         raise InputError(
             f"{name} holds {rows.size} constant series (first at row {rows[0]}): "
             "a constant series has no shape to compare"
         )
-    return (X - X.mean(axis=-1, keepdims=True)) / sd
+    return (Z - Z.mean(axis=-1, keepdims=True)) / sd
