@@ -7,6 +7,7 @@ import tentaclass.classifiers._pnn_core as pnn_module
 from tentaclass.classifiers import FourierClassifier, PNNClassifier
 from tentaclass.classifiers._pnn import MIN_SPREAD, auto_spread
 from tentaclass.datasets import thesis_tentacle
+from tentaclass.errors import InputError
 
 
 def reference_scores(X_train, y_train, X, spread):
@@ -287,3 +288,23 @@ def test_row_logsumexp_is_scipys_to_the_last_bit():
             a -= 800  # every exp underflows
         ref = logsumexp(a, axis=1, keepdims=True)
         assert np.array_equal(_logsumexp_rows(a), ref, equal_nan=True)
+
+
+def test_probabilities_far_from_every_pattern_still_sum_to_one():
+    # found by probing: scores of about -7e201 for every class rounded their
+    # differences from the log-sum-exp away, and each probability came out as 1
+    X, y = thesis_tentacle(16, return_X_y=True)
+    model = PNNClassifier().fit(X, y)
+    far = np.r_[1e100, X[0][1:]][None]
+    np.testing.assert_allclose(model.predict_proba(far), [[0.25] * 4])
+    near = X[:2] + 0.01
+    np.testing.assert_allclose(model.predict_proba(near).sum(axis=1), 1.0)
+
+
+@pytest.mark.parametrize("value", [1e160, -1e300])
+def test_a_sample_whose_distances_overflow_is_refused(value):
+    X, y = thesis_tentacle(16, return_X_y=True)
+    model = PNNClassifier().fit(X, y)
+    q = np.vstack([X[:1], np.r_[value, X[0][1:]][None]])
+    with pytest.raises(InputError, match=r"X: sample 1 lies too far from the training patterns"):
+        model.predict(q)

@@ -217,9 +217,18 @@ class PNNCore(ProbabilisticCore):
         g = self._gamma
         Xc = X - self._center
         xa = np.empty((X.shape[0], X.shape[1] + 2), dtype=dt)
-        xa[:, :-2] = 2 * g * Xc
-        xa[:, -2] = 1.0
-        xa[:, -1] = -g * np.einsum("ij,ij->i", Xc, Xc)
+        with np.errstate(over="ignore", invalid="ignore"):
+            xa[:, :-2] = 2 * g * Xc
+            xa[:, -2] = 1.0
+            xa[:, -1] = -g * np.einsum("ij,ij->i", Xc, Xc)
+        far = ~np.isfinite(xa).all(axis=1)
+        if far.any():
+            i = int(np.flatnonzero(far)[0])
+            raise InputError(
+                f"X: sample {i} lies too far from the training patterns for its kernel "
+                f"values to be computed (a feature of {X[i, np.argmax(np.abs(Xc[i]))]:.4g}, "
+                f"spread {self.spread_:.4g})"
+            )
         work = X.shape[0] * self.patterns_.shape[0]
         n_threads = 1 if work < 2 * _MIN_PARALLEL else min(_n_threads(), work // _MIN_PARALLEL)
         rows, tiles = self._tiles1 if n_threads == 1 else self._tiles(n_threads, dt.itemsize)

@@ -45,6 +45,22 @@ def _logsumexp_rows(a: FloatArray) -> FloatArray:
     return np.where(np.isfinite(out), out, out_inf)
 
 
+def _normalised(jll: FloatArray) -> FloatArray:
+    """Log probabilities ``jll - logsumexp(jll)`` of each row.
+
+    Rows of scores so large in magnitude that subtracting their log-sum-exp
+    would round the differences between classes away (far below the float
+    range's usual values: a sample far from every training pattern) are
+    normalised after taking out their maximum, which keeps those differences.
+    """
+    out = jll - _logsumexp_rows(jll)
+    big = np.abs(jll.max(axis=1)) > 2.0**40 if jll.size else np.zeros(0, bool)
+    if big.any():
+        d = jll[big] - jll[big].max(axis=1, keepdims=True)
+        out[big] = d - np.log(np.exp(d).sum(axis=1, keepdims=True))
+    return out
+
+
 class ProbabilisticCore:
     """Predictions from ``_joint_log_likelihood``; ``_check_X`` validates the input."""
 
@@ -69,8 +85,7 @@ class ProbabilisticCore:
         log_proba : ndarray of shape (n_samples, n_classes)
             Columns in the order of ``classes_``.
         """
-        jll = self._joint_log_likelihood(self._check_X(X))
-        return jll - _logsumexp_rows(jll)
+        return _normalised(self._joint_log_likelihood(self._check_X(X)))
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Class probabilities; each row sums to 1.
@@ -102,7 +117,7 @@ class ProbabilisticCore:
     def _predict_with_proba(self, X: ArrayLike) -> tuple[np.ndarray, FloatArray, FloatArray]:
         """``predict(X)``, ``predict_proba(X)`` and the log scores, evaluated once."""
         jll = self._joint_log_likelihood(self._check_X(X))
-        return self._decide(jll), np.exp(jll - _logsumexp_rows(jll)), jll
+        return self._decide(jll), np.exp(_normalised(jll)), jll
 
     def _decide(self, jll: FloatArray) -> np.ndarray:
         """Labels from log scores: the most probable class (Bayes rule)."""
