@@ -27,6 +27,9 @@ def as_float_array(
     except InputError:
         raise
     except (TypeError, ValueError) as exc:
+        ragged = ragged_error(x, name, exc)
+        if ragged is not exc:
+            raise ragged from None
         raise InputError(
             f"{name} must be an array of numbers; could not convert it: {exc}"
         ) from exc
@@ -49,8 +52,7 @@ def as_angle_array(
     least ``min_joints`` angles and no axis may be empty. With ``bounded`` the
     angles must lie within ``MAX_ANGLE`` (see :func:`check_angle_range`).
     """
-    arr = as_rectangular_array(q, name) if not isinstance(q, np.ndarray) else q
-    arr = as_float_array(arr, name, min_ndim=1, allow_nonfinite=True)
+    arr = as_float_array(q, name, min_ndim=1, allow_nonfinite=True)
     if arr.size == 0:
         raise ShapeError(f"{name} is empty (shape {arr.shape})")
     if arr.shape[-1] < min_joints:

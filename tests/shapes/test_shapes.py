@@ -204,3 +204,26 @@ def test_signed_area_far_from_the_origin():
     # without centring, products of 1e9 cancel to a few units of error
     sq = shapes.square(2.0) + 1e9
     assert shapes.signed_area(sq) == 4.0
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1.0, 1e150, 2.0**500])
+def test_signed_area_at_any_scale(scale):
+    # found by probing: products of coordinates of 1e300 overflowed
+    L = np.array([(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)])
+    assert shapes.signed_area(L * scale) == pytest.approx(3.0 * scale**2, rel=1e-15)
+    assert shapes.signed_area(L[::-1] * scale) == pytest.approx(-3.0 * scale**2, rel=1e-15)
+
+
+@pytest.mark.parametrize(
+    "outline, match",
+    [
+        (np.zeros((0, 2)), "at least 3 points"),
+        ([[0, 0], [1]], r"outline: rows have different lengths \(2 and 1, rows 0 and 1\)"),
+        (np.zeros((2, 4, 2)), r"shape \(n_points, 2\)"),
+        ([[0, 0], [1, np.nan], [1, 1]], "NaN"),
+        (shapes.square(1.0) * 1e300, "area is beyond the float range"),
+    ],
+)
+def test_signed_area_refuses_what_is_not_an_outline(outline, match):
+    with pytest.raises(InputError, match=match):
+        shapes.signed_area(outline)

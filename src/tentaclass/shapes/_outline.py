@@ -12,7 +12,7 @@ import shapely
 
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_points_array, check_positive_float, check_positive_int
-from ..errors import InputError
+from ..errors import InputError, ShapeError
 
 __all__ = [
     "as_outline",
@@ -26,11 +26,45 @@ __all__ = [
 ]
 
 
-def signed_area(outline: FloatArray) -> float:
-    """Shoelace area: positive for a counter-clockwise outline."""
-    # relative to the first point: far from the origin the products would overflow
-    x, y = outline[:, 0] - outline[0, 0], outline[:, 1] - outline[0, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+def signed_area(outline: ArrayLike) -> float:
+    """Shoelace area of a closed outline: positive for a counter-clockwise one.
+
+    Parameters
+    ----------
+    outline : array_like of shape (n_points, 2)
+        Vertices in order, at least 3; the closing edge is implied.
+
+    Returns
+    -------
+    area : float
+
+    Raises
+    ------
+    tentaclass.errors.InputError
+        A ``ValueError``: not an array of at least 3 finite points, or an area
+        beyond the float range.
+
+    Examples
+    --------
+    >>> signed_area([(0, 0), (2, 0), (2, 1), (0, 1)])
+    2.0
+    >>> signed_area([(0, 0), (0, 1), (2, 1), (2, 0)])
+    -2.0
+    """
+    p = as_points_array(outline, "outline", min_points=3)
+    if p.ndim != 2:
+        raise ShapeError(f"outline must have shape (n_points, 2), got shape {p.shape}")
+    # scaled exactly (by a power of two) into [1, 2): the products stay in range
+    peak = float(np.abs(p).max())
+    scale = np.ldexp(1.0, np.frexp(peak)[1] - 1) if peak > 0 else 1.0
+    q = p / scale
+    # relative to the first point: far from the origin the products would lose digits
+    x, y = q[:, 0] - q[0, 0], q[:, 1] - q[0, 1]
+    with np.errstate(over="ignore"):
+        area = 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)) * scale * scale
+    if not np.isfinite(area):
+        raise InputError(f"outline's area is beyond the float range (coordinates up to {peak:g})")
+    return float(area)
 
 
 #: Spans of an outline that areas and intersection tests can compute with.
