@@ -139,8 +139,9 @@ def test_bench_cli_ucr_without_aeon_names_the_data_set(tmp_path, monkeypatch):
     "name", [m.name for m in METHODS.values() if m.ours and m.name != "outline"]
 )
 def test_each_of_our_methods_recognises_the_reference_shapes(name):
+    # two folds: each method trains on half the wraps (all 15 measured at 100 %)
     X, y = reference_tentacle(32, n_starts=24, return_X_y=True)
-    (r,) = run_benchmark(X, y, [name], n_splits=4)
+    (r,) = run_benchmark(X, y, [name], n_splits=2)
     assert not r.error and r.accuracy >= 0.9, (r.error, r.accuracy)
 
 
