@@ -158,7 +158,8 @@ def test_tentacle_classifier_reads_read_only_and_float32_input(tmp_path):
     # 200-300 samples): its runs on read-only and on float32 input are these, smaller.
     # The classifier works on float64, so float32 input gives the model of its float64
     # values, and read-only input the model of the same values in writeable memory.
-    X, y = synthetic_tentacle(40, 16, random_state=3, return_X_y=True)
+    # 24 wraps, at least 4 of each class: the fewest with which every member takes part
+    X, y = synthetic_tentacle(24, 16, random_state=3, return_X_y=True)
     X32 = X.astype(np.float32)
     X64 = X32.astype(np.float64)
     reference = TentacleClassifier().fit(X64, y)
