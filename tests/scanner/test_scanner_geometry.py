@@ -223,6 +223,50 @@ def test_hull_area_length_radius_are_shapelys_to_the_last_bit(corners):
     assert np.array_equal(radius, shapely.minimum_bounding_radius(polys))
 
 
+
+def _disc_hulls(n=300, seed=0):
+    """Centre and corner hulls of discs, ellipses and cut discs up to 40 px wide."""
+    from tentaclass.scanner._geometry import mask_hull
+
+    rng = np.random.default_rng(seed)
+    rings = []
+    for _ in range(n):
+        size = int(rng.integers(4, 41))
+        yy, xx = np.mgrid[:size, :size] - (size - 1) / 2
+        a, b = rng.uniform(0.3, 1.0, 2) * size / 2
+        t = rng.uniform(0, np.pi)
+        u, v = xx * np.cos(t) + yy * np.sin(t), yy * np.cos(t) - xx * np.sin(t)
+        m = (u / a) ** 2 + (v / b) ** 2 <= 1
+        if rng.random() < 0.5:  # a straight cut, as a broken corner makes
+            m &= xx * rng.normal() + yy * rng.normal() < rng.uniform(0, size / 3)
+        if m.any():
+            rings += [mask_hull(m, True), mask_hull(m, False)]
+    return [r for r in rings if len(r) >= 4]
+
+
+@pytest.mark.parametrize("tolerance", [0.1, 0.25, 0.5, 1.0, 3.0])
+def test_simplified_rings_are_shapelys_coordinate_for_coordinate(tolerance):
+    from tentaclass.scanner._geometry import hull_ring, simplify_rings
+
+    rng = np.random.default_rng(7)
+    rings = _hull_rings(False, seed=2) + _hull_rings(True, seed=3) + _disc_hulls()
+    for _ in range(400):  # hulls of scattered points, on the integer grid and off it
+        pts = rng.normal(size=(int(rng.integers(3, 40)), 2)) * rng.uniform(0.3, 20)
+        if rng.random() < 0.5:
+            pts = pts.round()
+        rings.append(hull_ring(pts[:, 0], pts[:, 1]))
+    xy, starts, polys = _ragged([r for r in rings if len(r) >= 4], shift_seed=4)
+    ours, ours_starts = simplify_rings(xy, starts, tolerance)
+    ref_xy, index = shapely.get_coordinates(
+        shapely.simplify(polys, tolerance), return_index=True
+    )
+    # some rings lose points, some their first point too (the ring then starts elsewhere)
+    assert (np.diff(ours_starts) < np.diff(starts)).sum() > 40
+    assert (ours[ours_starts[:-1]] != xy[starts[:-1]]).any(axis=1).sum() >= 1
+    assert np.array_equal(ours_starts, np.searchsorted(index, np.arange(len(polys) + 1)))
+    assert np.array_equal(ours, ref_xy)
+
+
 def test_bounding_circle_outline_is_shapelys_to_the_last_bit():
     from tentaclass.scanner._geometry import circle_outlines
 

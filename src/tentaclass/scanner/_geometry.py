@@ -24,6 +24,8 @@ import math
 import numba as nb
 import numpy as np
 
+from ..wrapping._geom import _point_segment_distance  # GEOS's arithmetic
+
 _OPTS = {"cache": True, "nogil": True}
 
 
@@ -533,6 +535,91 @@ def rectangle_sides(corners):
         else:
             long[i], short[i], edge[i, 0], edge[i, 1] = l2, l1, bx, by
     return long, short, edge
+
+
+@nb.njit(**_OPTS)
+def _simplify_ring(ring, tolerance, out, k0, stack, kept):
+    """:func:`simplify_rings` of one closed ring of at least 4 points, written at ``out[k0:]``.
+
+    ``stack`` ``(3, m)`` and ``kept`` ``(m,)`` are scratch for a ring of ``m``
+    points. Returns the end of the ring written.
+    """
+    m = ring.shape[0]
+    n_kept = 0  # segments kept so far: kept[s] is the start of segment s
+    stack[0, 0], stack[1, 0], stack[2, 0] = 0, m - 1, 0
+    top = 1
+    while top:
+        top -= 1
+        i, j, depth = stack[0, top], stack[1, top], stack[2, top] + 1
+        if i + 1 == j:
+            kept[n_kept] = i
+            n_kept += 1
+            continue
+        valid = True
+        size = n_kept + 1 if n_kept else 0
+        if size < 4 and depth + 1 < 4:  # the ring could end up with too few points
+            valid = False
+        far = -1.0
+        index = i
+        for k in range(i + 1, j):
+            d = _point_segment_distance(
+                ring[k, 0], ring[k, 1], ring[i, 0], ring[i, 1], ring[j, 0], ring[j, 1]
+            )
+            if d > far:
+                far = d
+                index = k
+        if far > tolerance:
+            valid = False
+        if valid:
+            kept[n_kept] = i
+            n_kept += 1
+            continue
+        # both halves, the first on top
+        stack[0, top], stack[1, top], stack[2, top] = index, j, depth
+        stack[0, top + 1], stack[1, top + 1], stack[2, top + 1] = i, index, depth
+        top += 2
+    if n_kept + 1 > 4:  # the ring's endpoint goes too when its neighbours' chord is near
+        a, b, e = kept[n_kept - 1], kept[1], kept[0]
+        if (
+            _point_segment_distance(ring[e, 0], ring[e, 1], ring[a, 0], ring[a, 1],
+                                    ring[b, 0], ring[b, 1])
+            <= tolerance
+        ):  # fmt: skip
+            kept[0] = a
+            n_kept -= 1
+    for s in range(n_kept):
+        out[k0 + s, 0], out[k0 + s, 1] = ring[kept[s], 0], ring[kept[s], 1]
+    out[k0 + n_kept, 0], out[k0 + n_kept, 1] = out[k0, 0], out[k0, 1]
+    return k0 + n_kept + 1
+
+
+@nb.njit(**_OPTS)
+def simplify_rings(coords, starts, tolerance):
+    """:func:`shapely.simplify` of convex polygons' rings, the same coordinates.
+
+    The rings (closed, one after the other; at least 4 points each) are
+    simplified as GEOS's topology-preserving simplifier does a polygon's
+    shell: Douglas-Peucker, where a section is flattened only when no point
+    lies farther than ``tolerance`` from its chord and the ring cannot fall
+    below 4 points, then the ring's endpoint dropped when the chord of its
+    neighbours passes within ``tolerance`` of it (the ring then starts at the
+    last point kept). The simplifier's topology checks never fail on a
+    convex ring (its chords cross no edge), so they are left out. Returns
+    the simplified rings (closed, one after the other) and their starts.
+    """
+    n = starts.shape[0] - 1
+    out = np.empty((coords.shape[0], 2))
+    out_starts = np.zeros(n + 1, dtype=np.int64)
+    longest = 1
+    for i in range(n):
+        longest = max(longest, starts[i + 1] - starts[i])
+    stack = np.empty((3, longest + 1), dtype=np.int64)
+    kept = np.empty(longest, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        k = _simplify_ring(coords[starts[i] : starts[i + 1]], tolerance, out, k, stack, kept)
+        out_starts[i + 1] = k
+    return out[:k], out_starts
 
 
 @nb.njit(**_OPTS)

@@ -33,7 +33,6 @@ from .descriptors import (
     Geometry,
     MaskBatch,
     flatten_masks,
-    polygons_from_rings,
 )
 from .records import Defect
 
@@ -113,15 +112,13 @@ def _triangles(
     with the polygon, applied to all three sides: no library offers it, and a
     search over edge triples is fast for hulls of tens of edges. The hulls
     (closed rings, one after the other) are simplified first (tolerance 0.25
-    px, :func:`shapely.simplify`), and the sides lie on the 12 longest edges;
-    a hull with no qualifying triple stays (simplified). Returns the
+    px, as :func:`shapely.simplify` does: :func:`~._geometry.simplify_rings`),
+    and the sides lie on the 12 longest edges; a hull with no qualifying
+    triple stays (simplified). Returns the
     simplified rings (closed, one after the other), their starts, whether a
     triangle was found and the triangles ``(n, 3, 2)``.
     """
-    n = ring_starts.size - 1
-    simple = shapely.simplify(polygons_from_rings(rings, ring_starts), 0.25)
-    sxy, index = shapely.get_coordinates(simple, return_index=True)
-    starts = np.searchsorted(index, np.arange(n + 1))
+    sxy, starts = geo.simplify_rings(rings, ring_starts, 0.25)
     normal, c, length, edge_starts = geo.hull_edges(sxy, starts)
     theta = np.arctan2(normal[:, 1], normal[:, 0])
     found, tris = geo.triangle_search(normal, c, theta, length, edge_starts)

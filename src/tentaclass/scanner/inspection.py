@@ -15,7 +15,7 @@ from ._rounding import rounded
 from .defects import REASON, DefectSettings, defect_arrays, defect_fields, defect_records
 from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
 from .model import _ONE_THREAD_MIN_ROWS, ScannerModel, crop, default_model
-from .records import Defect, Inspection, ScannedObject, new_inspection
+from .records import Defect, Inspection, ScannedObject, collector_paused, new_inspection
 
 __all__ = ["NominalSize", "inspect", "inspect_many"]
 
@@ -183,6 +183,7 @@ def _check_options(
     return model, settings, tol
 
 
+@collector_paused
 def inspect_masks(
     masks: Sequence[np.ndarray] | None,
     offsets: Sequence[tuple[int, int]] | np.ndarray,
