@@ -133,17 +133,27 @@ _SHAPES = {
 }
 
 
+def shape_codes(labels: Sequence | np.ndarray) -> np.ndarray:
+    """The expected outline each label asks for (``geo.HULL`` for any other class)."""
+    return np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
+
+
 def _expected_rings(
-    rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence | np.ndarray
+    rings: np.ndarray,
+    ring_starts: np.ndarray,
+    labels: Sequence | np.ndarray,
+    code: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`expected_outline` of each centre hull ring (closed, one after the other).
 
-    Returns the outlines' rings as shapely gives their coordinates (closed,
-    one after the other; a point or a line for hulls of collinear centres),
-    their starts, whether each is a polygon, the circles' centroids (zero for
-    the other outlines) and the shape each label asks for.
+    ``code``: :func:`shape_codes` of the labels, if at hand. Returns the
+    outlines' rings as shapely gives their coordinates (closed, one after the
+    other; a point or a line for hulls of collinear centres), their starts,
+    whether each is a polygon, the circles' centroids (zero for the other
+    outlines) and the shape each label asks for.
     """
-    code = np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
+    if code is None:
+        code = shape_codes(labels)
     shape, triangles = geo.outline_shapes(ring_starts, code)
     if triangles.size:
         tri = _triangles(*geo.gather_rings(rings, ring_starts, triangles))
@@ -217,12 +227,14 @@ def defect_arrays(
     settings: DefectSettings,
     extents: np.ndarray,
     centres: tuple[np.ndarray, np.ndarray] | None = None,
+    shapes: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Defects of the objects of a measured batch, in arrays.
 
     ``extents``: ``(n, 4)`` the grid of each object in its mask's
     coordinates (infinite: no edge); ``centres``: the hull rings of the
-    cores' pixel centres and their starts, if measured. Returns what
+    cores' pixel centres and their starts, if measured; ``shapes``:
+    :func:`shape_codes` of the labels, if at hand. Returns what
     :func:`~._geometry.defect_groups` returns: ``ints`` (object, code, area,
     box) and ``floats`` (centroid, depth), one row per defect.
     """
@@ -231,7 +243,7 @@ def defect_arrays(
     assert filled is not None and core is not None  # set by measure_batch_arrays
     if centres is None:
         centres = _centre_rings(batch._replace(mask=core))
-    xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels)
+    xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels, shapes)
     cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
     kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
         xy, out_starts, polygon, code == geo.CIRCLE, cornered,
