@@ -223,7 +223,6 @@ def test_hull_area_length_radius_are_shapelys_to_the_last_bit(corners):
     assert np.array_equal(radius, shapely.minimum_bounding_radius(polys))
 
 
-
 def _disc_hulls(n=300, seed=0):
     """Centre and corner hulls of discs, ellipses and cut discs up to 40 px wide."""
     from tentaclass.scanner._geometry import mask_hull
@@ -257,9 +256,7 @@ def test_simplified_rings_are_shapelys_coordinate_for_coordinate(tolerance):
         rings.append(hull_ring(pts[:, 0], pts[:, 1]))
     xy, starts, polys = _ragged([r for r in rings if len(r) >= 4], shift_seed=4)
     ours, ours_starts = simplify_rings(xy, starts, tolerance)
-    ref_xy, index = shapely.get_coordinates(
-        shapely.simplify(polys, tolerance), return_index=True
-    )
+    ref_xy, index = shapely.get_coordinates(shapely.simplify(polys, tolerance), return_index=True)
     # some rings lose points, some their first point too (the ring then starts elsewhere)
     assert (np.diff(ours_starts) < np.diff(starts)).sum() > 40
     assert (ours[ours_starts[:-1]] != xy[starts[:-1]]).any(axis=1).sum() >= 1
@@ -315,3 +312,54 @@ def test_hull_features_refuse_harmonics_the_walk_cannot_hold(n_harmonics, n_poin
     # the largest valid number of harmonics gives the walk's spectrum
     k = n_points // 2
     assert features_matrix([g], n_points=n_points, n_harmonics=k).shape == (1, 5 + k)
+
+
+@pytest.mark.parametrize("margin", [-0.1, -0.6, -1.5, 0.0, 0.3])
+def test_defect_canvas_holds_every_pixel_inside_the_grown_outline(margin):
+    """The canvas stops where the outline grown by -margin ends, at most 2 px beyond it."""
+    from tentaclass.scanner import _geometry as geo
+    from tentaclass.scanner.defects import _expected_rings
+
+    rng = np.random.default_rng(3)
+    masks = list(_masks(n=300, seed=8))
+    for _ in range(60):  # slivers: their triangles have sharp corners
+        m = np.zeros((int(rng.integers(3, 30)), int(rng.integers(3, 30))), dtype=bool)
+        rr = np.linspace(0, m.shape[0] - 1, 200)
+        cc = np.linspace(0, m.shape[1] - 1, 200) * rng.uniform(0.2, 1.0)
+        m[rr.round().astype(int), cc.round().astype(int)] = True
+        masks.append(m)
+    rings = [geo.mask_hull(m, False) for m in masks]
+    starts = np.r_[0, np.cumsum([len(r) for r in rings])]
+    labels = rng.choice(["square", "circle", "triangle", "other"], len(masks))
+    xy, out_starts, polygon, circles, code = _expected_rings(np.concatenate(rings), starts, labels)
+    n = len(masks)
+    heights = np.array([m.shape[0] for m in masks])
+    widths = np.array([m.shape[1] for m in masks])
+    ones = np.ones(n)
+    kind, lo, canvas, frame, ccw, *_ = geo.defect_setup(
+        xy, out_starts, polygon, code == geo.CIRCLE, code == geo.TRIANGLE, heights, widths,
+        ones * 50, ones * 5, ones * 9, 4.0, 0.003, 1.5, circles, margin,
+    )  # fmt: skip
+    checked = smaller = 0
+    for i in np.flatnonzero(kind):
+        ring = ccw[out_starts[i] : out_starts[i + 1]]
+        x1, y1 = ring.max(axis=0)
+        # the frame: the outline and the mask with 2 pixels to spare
+        h = int(np.ceil(max(y1, heights[i]) + 2)) - frame[i, 0]
+        w = int(np.ceil(max(x1, widths[i]) + 2)) - frame[i, 1]
+        sd = np.empty((h, w))
+        scratch = np.empty(len(ring))
+        geo._signed_distance(
+            kind[i], ring, circles[i], frame[i, 0], frame[i, 1], h, w, sd, scratch,
+            scratch.copy(), scratch.copy(),
+        )  # fmt: skip
+        rows, cols = np.nonzero(sd >= margin)
+        rows, cols = rows + frame[i, 0], cols + frame[i, 1]
+        top, left = lo[i]
+        bottom, right = lo[i] + canvas[i]
+        assert top <= 0 and left <= 0 and bottom >= heights[i] and right >= widths[i]
+        assert (top >= frame[i, 0]) and (left >= frame[i, 1]) and bottom <= frame[i, 0] + h
+        assert ((rows >= top) & (rows < bottom) & (cols >= left) & (cols < right)).all()
+        checked += 1
+        smaller += canvas[i].prod() < h * w
+    assert checked > 200 and smaller > checked / 2

@@ -245,14 +245,14 @@ def defect_arrays(
         centres = _centre_rings(batch._replace(mask=core))
     xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels, shapes)
     cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
-    kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
+    kind, lo, canvas, frame, rings, vert_lo, vert_hi, limits = geo.defect_setup(
         xy, out_starts, polygon, code == geo.CIRCLE, cornered,
         heights, widths, np.asarray(object_area), np.asarray(width, dtype=float),
         np.asarray(length, dtype=float), float(s.min_area), float(s.min_area_fraction),
-        float(s.min_depth),
+        float(s.min_depth), circles, float(s.margin),
     )  # fmt: skip
     return geo.defect_groups(
-        flat, filled, starts, heights, widths, kind, lo, canvas, rings, out_starts, xy,
+        flat, filled, starts, heights, widths, kind, lo, canvas, frame, rings, out_starts, xy,
         vert_lo, vert_hi, circles, limits, extents.astype(float), float(s.margin),
         int(s.min_hole_area), float(s.min_burr_area),
     )  # fmt: skip
