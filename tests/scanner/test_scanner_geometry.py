@@ -77,6 +77,29 @@ def test_fill_holes_is_scipys():
         assert np.array_equal(fill_holes(m), ndimage.binary_fill_holes(m))
 
 
+def test_batch_fills_are_scipys_with_and_without_gaps_in_rows():
+    from tentaclass.scanner._geometry import measure_batch
+    from tentaclass.scanner.descriptors import flatten_masks
+
+    rng = np.random.default_rng(4)
+    masks = list(_masks(n=300, seed=6))
+    for _ in range(100):  # discs: rows of one run, some with a hole or a bite
+        size = int(rng.integers(3, 25))
+        yy, xx = np.mgrid[:size, :size] - (size - 1) / 2
+        m = yy**2 + xx**2 <= (size / 2) ** 2
+        r, c = rng.integers(0, size, 2)
+        m[r : r + int(rng.integers(0, 3)), c : c + int(rng.integers(0, 3))] = False
+        masks.append(m)
+    batch = flatten_masks(masks)
+    filled = measure_batch(*batch[:4])[0]
+    ref = np.concatenate([ndimage.binary_fill_holes(m).ravel() for m in masks])
+    assert np.array_equal(filled, ref)
+    one_run = [
+        all(np.ptp(np.flatnonzero(row)) + 1 == row.sum() for row in m if row.any()) for m in masks
+    ]
+    assert 50 < sum(one_run) < len(masks) - 50
+
+
 def test_distance_outside_a_convex_polygon_is_shapelys():
     rng = np.random.default_rng(1)
     ring = hull_ring(rng.normal(size=30), rng.normal(size=30))

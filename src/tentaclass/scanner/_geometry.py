@@ -458,19 +458,30 @@ def measure_batch(flat, starts, heights, widths):
     stack = np.empty((2, biggest), dtype=np.int64)
     for i in range(n):
         m = _mask_of(flat, starts, heights, widths, i)
-        _fill_holes_into(m, _mask_of(filled, starts, heights, widths, i), stack)
         a = 0
         sr = 0
         sc = 0
+        spans = 0  # the pixels from each row's first to its last
         for r in range(m.shape[0]):
+            first = -1
             for c in range(m.shape[1]):
                 if m[r, c]:
                     a += 1
                     sr += r
                     sc += c
+                    if first < 0:
+                        first = c
+                    last = c
+            if first >= 0:
+                spans += last - first + 1
         area[i] = a
         sums[i, 0] = sr
         sums[i, 1] = sc
+        out = _mask_of(filled, starts, heights, widths, i)
+        if spans == a:  # each row one run: every gap reaches the border along its row
+            out[:] = m
+        else:
+            _fill_holes_into(m, out, stack)
     coords, ring_starts, centres, centre_starts = hulls_both(flat, starts, heights, widths)
     return filled, coords, ring_starts, area, sums, centres, centre_starts
 
