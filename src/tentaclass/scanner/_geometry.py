@@ -446,7 +446,10 @@ def measure_batch(flat, starts, heights, widths):
     """Filled masks (flat, as ``flat``), hull rings, areas and row/column sums.
 
     The hull rings of the pixel squares and of the pixel centres
-    (:func:`hulls_both`); those of the filled masks are the same.
+    (:func:`hulls_batch` of each), from the same pass over each mask's rows
+    as its area; those of the filled masks are the same. A mask whose rows
+    are each one run is its own filled mask (every gap reaches the border
+    along its row).
     """
     n = heights.shape[0]
     filled = np.empty(flat.shape[0], dtype=np.bool_)
@@ -456,40 +459,6 @@ def measure_batch(flat, starts, heights, widths):
     for i in range(n):
         biggest = max(biggest, heights[i] * widths[i])
     stack = np.empty((2, biggest), dtype=np.int64)
-    for i in range(n):
-        m = _mask_of(flat, starts, heights, widths, i)
-        a = 0
-        sr = 0
-        sc = 0
-        spans = 0  # the pixels from each row's first to its last
-        for r in range(m.shape[0]):
-            first = -1
-            for c in range(m.shape[1]):
-                if m[r, c]:
-                    a += 1
-                    sr += r
-                    sc += c
-                    if first < 0:
-                        first = c
-                    last = c
-            if first >= 0:
-                spans += last - first + 1
-        area[i] = a
-        sums[i, 0] = sr
-        sums[i, 1] = sc
-        out = _mask_of(filled, starts, heights, widths, i)
-        if spans == a:  # each row one run: every gap reaches the border along its row
-            out[:] = m
-        else:
-            _fill_holes_into(m, out, stack)
-    coords, ring_starts, centres, centre_starts = hulls_both(flat, starts, heights, widths)
-    return filled, coords, ring_starts, area, sums, centres, centre_starts
-
-
-@nb.njit(**_OPTS)
-def hulls_both(flat, starts, heights, widths):
-    """:func:`hulls_batch` of the pixel squares and of the pixel centres, in one pass."""
-    n = heights.shape[0]
     cap = 0
     for i in range(n):
         cap += 8 * heights[i] + 2
@@ -501,26 +470,60 @@ def hulls_both(flat, starts, heights, widths):
     k = 0
     q = 0
     for i in range(n):
-        mask = _mask_of(flat, starts, heights, widths, i)
-        _row_ends(mask, scratch)
-        for corners in (True, False):
-            at = k if corners else q
-            into = coords if corners else centres
-            end = _ends_hull_into(mask.shape[0], corners, scratch, into, at)
-            if end < 0:  # collinear points
-                ring = mask_hull(mask, corners)
-                end = at + ring.shape[0]
-                if corners:
-                    coords[at:end] = ring
-                else:
-                    centres[at:end] = ring
-            if corners:
-                k = end
-            else:
-                q = end
+        m = _mask_of(flat, starts, heights, widths, i)
+        a = 0
+        sr = 0
+        sc = 0
+        spans = 0  # the pixels from each row's first to its last
+        for r in range(m.shape[0]):
+            first = -1
+            last = -1
+            for c in range(m.shape[1]):
+                if m[r, c]:
+                    a += 1
+                    sr += r
+                    sc += c
+                    if first < 0:
+                        first = c
+                    last = c
+            if first >= 0:
+                spans += last - first + 1
+            scratch[0, r] = first  # the row's ends, as _row_ends gives them
+            scratch[1, r] = last
+        k, q = _both_hulls_into(m, scratch, coords, k, centres, q)
         ring_starts[i + 1] = k
         centre_starts[i + 1] = q
-    return coords[:k], ring_starts, centres[:q], centre_starts
+        area[i] = a
+        sums[i, 0] = sr
+        sums[i, 1] = sc
+        out = _mask_of(filled, starts, heights, widths, i)
+        if spans == a:  # each row one run: every gap reaches the border along its row
+            out[:] = m
+        else:
+            _fill_holes_into(m, out, stack)
+    return filled, coords[:k], ring_starts, area, sums, centres[:q], centre_starts
+
+
+@nb.njit(**_OPTS)
+def _both_hulls_into(mask, scratch, coords, k, centres, q):
+    """The hulls of a mask's pixel squares at ``coords[k:]`` and centres at ``centres[q:]``.
+
+    ``scratch`` from :func:`_hull_scratch` holds the mask's :func:`_row_ends`.
+    Returns the ends of the two rings written.
+    """
+    for corners in (True, False):
+        at = k if corners else q
+        into = coords if corners else centres
+        end = _ends_hull_into(mask.shape[0], corners, scratch, into, at)
+        if end < 0:  # collinear points
+            ring = mask_hull(mask, corners)
+            end = at + ring.shape[0]
+            into[at:end] = ring
+        if corners:
+            k = end
+        else:
+            q = end
+    return k, q
 
 
 @nb.njit(**_OPTS)
