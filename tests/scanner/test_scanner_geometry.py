@@ -77,6 +77,29 @@ def test_fill_holes_is_scipys():
         assert np.array_equal(fill_holes(m), ndimage.binary_fill_holes(m))
 
 
+def test_batch_fills_are_scipys_with_and_without_gaps_in_rows():
+    from tentaclass.scanner._geometry import measure_batch
+    from tentaclass.scanner.descriptors import flatten_masks
+
+    rng = np.random.default_rng(4)
+    masks = list(_masks(n=300, seed=6))
+    for _ in range(100):  # discs: rows of one run, some with a hole or a bite
+        size = int(rng.integers(3, 25))
+        yy, xx = np.mgrid[:size, :size] - (size - 1) / 2
+        m = yy**2 + xx**2 <= (size / 2) ** 2
+        r, c = rng.integers(0, size, 2)
+        m[r : r + int(rng.integers(0, 3)), c : c + int(rng.integers(0, 3))] = False
+        masks.append(m)
+    batch = flatten_masks(masks)
+    filled = measure_batch(*batch[:4])[0]
+    ref = np.concatenate([ndimage.binary_fill_holes(m).ravel() for m in masks])
+    assert np.array_equal(filled, ref)
+    one_run = [
+        all(np.ptp(np.flatnonzero(row)) + 1 == row.sum() for row in m if row.any()) for m in masks
+    ]
+    assert 50 < sum(one_run) < len(masks) - 50
+
+
 def test_distance_outside_a_convex_polygon_is_shapelys():
     rng = np.random.default_rng(1)
     ring = hull_ring(rng.normal(size=30), rng.normal(size=30))
@@ -223,6 +246,47 @@ def test_hull_area_length_radius_are_shapelys_to_the_last_bit(corners):
     assert np.array_equal(radius, shapely.minimum_bounding_radius(polys))
 
 
+def _disc_hulls(n=300, seed=0):
+    """Centre and corner hulls of discs, ellipses and cut discs up to 40 px wide."""
+    from tentaclass.scanner._geometry import mask_hull
+
+    rng = np.random.default_rng(seed)
+    rings = []
+    for _ in range(n):
+        size = int(rng.integers(4, 41))
+        yy, xx = np.mgrid[:size, :size] - (size - 1) / 2
+        a, b = rng.uniform(0.3, 1.0, 2) * size / 2
+        t = rng.uniform(0, np.pi)
+        u, v = xx * np.cos(t) + yy * np.sin(t), yy * np.cos(t) - xx * np.sin(t)
+        m = (u / a) ** 2 + (v / b) ** 2 <= 1
+        if rng.random() < 0.5:  # a straight cut, as a broken corner makes
+            m &= xx * rng.normal() + yy * rng.normal() < rng.uniform(0, size / 3)
+        if m.any():
+            rings += [mask_hull(m, True), mask_hull(m, False)]
+    return [r for r in rings if len(r) >= 4]
+
+
+@pytest.mark.parametrize("tolerance", [0.1, 0.25, 0.5, 1.0, 3.0])
+def test_simplified_rings_are_shapelys_coordinate_for_coordinate(tolerance):
+    from tentaclass.scanner._geometry import hull_ring, simplify_rings
+
+    rng = np.random.default_rng(7)
+    rings = _hull_rings(False, seed=2) + _hull_rings(True, seed=3) + _disc_hulls()
+    for _ in range(400):  # hulls of scattered points, on the integer grid and off it
+        pts = rng.normal(size=(int(rng.integers(3, 40)), 2)) * rng.uniform(0.3, 20)
+        if rng.random() < 0.5:
+            pts = pts.round()
+        rings.append(hull_ring(pts[:, 0], pts[:, 1]))
+    xy, starts, polys = _ragged([r for r in rings if len(r) >= 4], shift_seed=4)
+    ours, ours_starts = simplify_rings(xy, starts, tolerance)
+    ref_xy, index = shapely.get_coordinates(shapely.simplify(polys, tolerance), return_index=True)
+    # some rings lose points, some their first point too (the ring then starts elsewhere)
+    assert (np.diff(ours_starts) < np.diff(starts)).sum() > 40
+    assert (ours[ours_starts[:-1]] != xy[starts[:-1]]).any(axis=1).sum() >= 1
+    assert np.array_equal(ours_starts, np.searchsorted(index, np.arange(len(polys) + 1)))
+    assert np.array_equal(ours, ref_xy)
+
+
 def test_bounding_circle_outline_is_shapelys_to_the_last_bit():
     from tentaclass.scanner._geometry import circle_outlines
 
@@ -271,3 +335,54 @@ def test_hull_features_refuse_harmonics_the_walk_cannot_hold(n_harmonics, n_poin
     # the largest valid number of harmonics gives the walk's spectrum
     k = n_points // 2
     assert features_matrix([g], n_points=n_points, n_harmonics=k).shape == (1, 5 + k)
+
+
+@pytest.mark.parametrize("margin", [-0.1, -0.6, -1.5, 0.0, 0.3])
+def test_defect_canvas_holds_every_pixel_inside_the_grown_outline(margin):
+    """The canvas stops where the outline grown by -margin ends, at most 2 px beyond it."""
+    from tentaclass.scanner import _geometry as geo
+    from tentaclass.scanner.defects import _expected_rings
+
+    rng = np.random.default_rng(3)
+    masks = list(_masks(n=300, seed=8))
+    for _ in range(60):  # slivers: their triangles have sharp corners
+        m = np.zeros((int(rng.integers(3, 30)), int(rng.integers(3, 30))), dtype=bool)
+        rr = np.linspace(0, m.shape[0] - 1, 200)
+        cc = np.linspace(0, m.shape[1] - 1, 200) * rng.uniform(0.2, 1.0)
+        m[rr.round().astype(int), cc.round().astype(int)] = True
+        masks.append(m)
+    rings = [geo.mask_hull(m, False) for m in masks]
+    starts = np.r_[0, np.cumsum([len(r) for r in rings])]
+    labels = rng.choice(["square", "circle", "triangle", "other"], len(masks))
+    xy, out_starts, polygon, circles, code = _expected_rings(np.concatenate(rings), starts, labels)
+    n = len(masks)
+    heights = np.array([m.shape[0] for m in masks])
+    widths = np.array([m.shape[1] for m in masks])
+    ones = np.ones(n)
+    kind, lo, canvas, frame, ccw, *_ = geo.defect_setup(
+        xy, out_starts, polygon, code == geo.CIRCLE, code == geo.TRIANGLE, heights, widths,
+        ones * 50, ones * 5, ones * 9, 4.0, 0.003, 1.5, circles, margin,
+    )  # fmt: skip
+    checked = smaller = 0
+    for i in np.flatnonzero(kind):
+        ring = ccw[out_starts[i] : out_starts[i + 1]]
+        x1, y1 = ring.max(axis=0)
+        # the frame: the outline and the mask with 2 pixels to spare
+        h = int(np.ceil(max(y1, heights[i]) + 2)) - frame[i, 0]
+        w = int(np.ceil(max(x1, widths[i]) + 2)) - frame[i, 1]
+        sd = np.empty((h, w))
+        scratch = np.empty(len(ring))
+        geo._signed_distance(
+            kind[i], ring, circles[i], frame[i, 0], frame[i, 1], h, w, sd, scratch,
+            scratch.copy(), scratch.copy(),
+        )  # fmt: skip
+        rows, cols = np.nonzero(sd >= margin)
+        rows, cols = rows + frame[i, 0], cols + frame[i, 1]
+        top, left = lo[i]
+        bottom, right = lo[i] + canvas[i]
+        assert top <= 0 and left <= 0 and bottom >= heights[i] and right >= widths[i]
+        assert (top >= frame[i, 0]) and (left >= frame[i, 1]) and bottom <= frame[i, 0] + h
+        assert ((rows >= top) & (rows < bottom) & (cols >= left) & (cols < right)).all()
+        checked += 1
+        smaller += canvas[i].prod() < h * w
+    assert checked > 200 and smaller > checked / 2

@@ -132,3 +132,31 @@ def test_scanner_records_hold_plain_python_values():
         assert all(plain(v) for v in vars(r).values()), vars(r)
         assert all(plain(v) for d in r.defects for v in vars(d).values())
         assert type(o.id) is int and type(o.first_row) is int
+
+
+def test_records_are_built_with_the_collector_paused_and_it_resumes_as_it_was():
+    import gc
+
+    from tentaclass.scanner.records import collector_paused
+
+    seen = []
+
+    @collector_paused
+    def build(fail=False):
+        seen.append(gc.isenabled())
+        if fail:
+            raise RuntimeError("no records")
+        return [object() for _ in range(3)]
+
+    assert gc.isenabled()
+    assert len(build()) == 3 and gc.isenabled()
+    with pytest.raises(RuntimeError, match="no records"):
+        build(fail=True)
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        build()
+        assert not gc.isenabled()  # left off, as the caller had it
+    finally:
+        gc.enable()
+    assert seen == [False, False, False]

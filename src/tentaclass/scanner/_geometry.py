@@ -444,7 +444,10 @@ def measure_batch(flat, starts, heights, widths):
     """Filled masks (flat, as ``flat``), hull rings, areas and row/column sums.
 
     The hull rings of the pixel squares and of the pixel centres
-    (:func:`hulls_both`); those of the filled masks are the same.
+    (:func:`hulls_batch` of each), from the same pass over each mask's rows
+    as its area; those of the filled masks are the same. A mask whose rows
+    are each one run is its own filled mask (every gap reaches the border
+    along its row).
     """
     n = heights.shape[0]
     filled = np.empty(flat.shape[0], dtype=np.bool_)
@@ -454,29 +457,6 @@ def measure_batch(flat, starts, heights, widths):
     for i in range(n):
         biggest = max(biggest, heights[i] * widths[i])
     stack = np.empty((2, biggest), dtype=np.int64)
-    for i in range(n):
-        m = _mask_of(flat, starts, heights, widths, i)
-        _fill_holes_into(m, _mask_of(filled, starts, heights, widths, i), stack)
-        a = 0
-        sr = 0
-        sc = 0
-        for r in range(m.shape[0]):
-            for c in range(m.shape[1]):
-                if m[r, c]:
-                    a += 1
-                    sr += r
-                    sc += c
-        area[i] = a
-        sums[i, 0] = sr
-        sums[i, 1] = sc
-    coords, ring_starts, centres, centre_starts = hulls_both(flat, starts, heights, widths)
-    return filled, coords, ring_starts, area, sums, centres, centre_starts
-
-
-@nb.njit(**_OPTS)
-def hulls_both(flat, starts, heights, widths):
-    """:func:`hulls_batch` of the pixel squares and of the pixel centres, in one pass."""
-    n = heights.shape[0]
     cap = 0
     for i in range(n):
         cap += 8 * heights[i] + 2
@@ -488,26 +468,60 @@ def hulls_both(flat, starts, heights, widths):
     k = 0
     q = 0
     for i in range(n):
-        mask = _mask_of(flat, starts, heights, widths, i)
-        _row_ends(mask, scratch)
-        for corners in (True, False):
-            at = k if corners else q
-            into = coords if corners else centres
-            end = _ends_hull_into(mask.shape[0], corners, scratch, into, at)
-            if end < 0:  # collinear points
-                ring = mask_hull(mask, corners)
-                end = at + ring.shape[0]
-                if corners:
-                    coords[at:end] = ring
-                else:
-                    centres[at:end] = ring
-            if corners:
-                k = end
-            else:
-                q = end
+        m = _mask_of(flat, starts, heights, widths, i)
+        a = 0
+        sr = 0
+        sc = 0
+        spans = 0  # the pixels from each row's first to its last
+        for r in range(m.shape[0]):
+            first = -1
+            last = -1
+            for c in range(m.shape[1]):
+                if m[r, c]:
+                    a += 1
+                    sr += r
+                    sc += c
+                    if first < 0:
+                        first = c
+                    last = c
+            if first >= 0:
+                spans += last - first + 1
+            scratch[0, r] = first  # the row's ends, as _row_ends gives them
+            scratch[1, r] = last
+        k, q = _both_hulls_into(m, scratch, coords, k, centres, q)
         ring_starts[i + 1] = k
         centre_starts[i + 1] = q
-    return coords[:k], ring_starts, centres[:q], centre_starts
+        area[i] = a
+        sums[i, 0] = sr
+        sums[i, 1] = sc
+        out = _mask_of(filled, starts, heights, widths, i)
+        if spans == a:  # each row one run: every gap reaches the border along its row
+            out[:] = m
+        else:
+            _fill_holes_into(m, out, stack)
+    return filled, coords[:k], ring_starts, area, sums, centres[:q], centre_starts
+
+
+@nb.njit(**_OPTS)
+def _both_hulls_into(mask, scratch, coords, k, centres, q):
+    """The hulls of a mask's pixel squares at ``coords[k:]`` and centres at ``centres[q:]``.
+
+    ``scratch`` from :func:`_hull_scratch` holds the mask's :func:`_row_ends`.
+    Returns the ends of the two rings written.
+    """
+    for corners in (True, False):
+        at = k if corners else q
+        into = coords if corners else centres
+        end = _ends_hull_into(mask.shape[0], corners, scratch, into, at)
+        if end < 0:  # collinear points
+            ring = mask_hull(mask, corners)
+            end = at + ring.shape[0]
+            into[at:end] = ring
+        if corners:
+            k = end
+        else:
+            q = end
+    return k, q
 
 
 @nb.njit(**_OPTS)
@@ -533,6 +547,106 @@ def rectangle_sides(corners):
         else:
             long[i], short[i], edge[i, 0], edge[i, 1] = l2, l1, bx, by
     return long, short, edge
+
+
+@nb.njit(**_OPTS)
+def _point_segment_distance(px, py, ax, ay, bx, by):
+    """GEOS's Distance::pointToSegment from ``p`` to the segment ``a b``, with its arithmetic."""
+    if ax == bx and ay == by:
+        return np.sqrt((px - ax) * (px - ax) + (py - ay) * (py - ay))
+    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    r = ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / len2
+    if r <= 0.0:
+        return np.sqrt((px - ax) * (px - ax) + (py - ay) * (py - ay))
+    if r >= 1.0:
+        return np.sqrt((px - bx) * (px - bx) + (py - by) * (py - by))
+    s = ((ay - py) * (bx - ax) - (ax - px) * (by - ay)) / len2
+    return abs(s) * np.sqrt(len2)
+
+
+@nb.njit(**_OPTS)
+def _simplify_ring(ring, tolerance, out, k0, stack, kept):
+    """:func:`simplify_rings` of one closed ring of at least 4 points, written at ``out[k0:]``.
+
+    ``stack`` ``(3, m)`` and ``kept`` ``(m,)`` are scratch for a ring of ``m``
+    points. Returns the end of the ring written.
+    """
+    m = ring.shape[0]
+    n_kept = 0  # segments kept so far: kept[s] is the start of segment s
+    stack[0, 0], stack[1, 0], stack[2, 0] = 0, m - 1, 0
+    top = 1
+    while top:
+        top -= 1
+        i, j, depth = stack[0, top], stack[1, top], stack[2, top] + 1
+        if i + 1 == j:
+            kept[n_kept] = i
+            n_kept += 1
+            continue
+        valid = True
+        size = n_kept + 1 if n_kept else 0
+        if size < 4 and depth + 1 < 4:  # the ring could end up with too few points
+            valid = False
+        far = -1.0
+        index = i
+        for k in range(i + 1, j):
+            d = _point_segment_distance(
+                ring[k, 0], ring[k, 1], ring[i, 0], ring[i, 1], ring[j, 0], ring[j, 1]
+            )
+            if d > far:
+                far = d
+                index = k
+        if far > tolerance:
+            valid = False
+        if valid:
+            kept[n_kept] = i
+            n_kept += 1
+            continue
+        # both halves, the first on top
+        stack[0, top], stack[1, top], stack[2, top] = index, j, depth
+        stack[0, top + 1], stack[1, top + 1], stack[2, top + 1] = i, index, depth
+        top += 2
+    if n_kept + 1 > 4:  # the ring's endpoint goes too when its neighbours' chord is near
+        a, b, e = kept[n_kept - 1], kept[1], kept[0]
+        if (
+            _point_segment_distance(ring[e, 0], ring[e, 1], ring[a, 0], ring[a, 1],
+                                    ring[b, 0], ring[b, 1])
+            <= tolerance
+        ):  # fmt: skip
+            kept[0] = a
+            n_kept -= 1
+    for s in range(n_kept):
+        out[k0 + s, 0], out[k0 + s, 1] = ring[kept[s], 0], ring[kept[s], 1]
+    out[k0 + n_kept, 0], out[k0 + n_kept, 1] = out[k0, 0], out[k0, 1]
+    return k0 + n_kept + 1
+
+
+@nb.njit(**_OPTS)
+def simplify_rings(coords, starts, tolerance):
+    """:func:`shapely.simplify` of convex polygons' rings, the same coordinates.
+
+    The rings (closed, one after the other; at least 4 points each) are
+    simplified as GEOS's topology-preserving simplifier does a polygon's
+    shell: Douglas-Peucker, where a section is flattened only when no point
+    lies farther than ``tolerance`` from its chord and the ring cannot fall
+    below 4 points, then the ring's endpoint dropped when the chord of its
+    neighbours passes within ``tolerance`` of it (the ring then starts at the
+    last point kept). The simplifier's topology checks never fail on a
+    convex ring (its chords cross no edge), so they are left out. Returns
+    the simplified rings (closed, one after the other) and their starts.
+    """
+    n = starts.shape[0] - 1
+    out = np.empty((coords.shape[0], 2))
+    out_starts = np.zeros(n + 1, dtype=np.int64)
+    longest = 1
+    for i in range(n):
+        longest = max(longest, starts[i + 1] - starts[i])
+    stack = np.empty((3, longest + 1), dtype=np.int64)
+    kept = np.empty(longest, dtype=np.int64)
+    k = 0
+    for i in range(n):
+        k = _simplify_ring(coords[starts[i] : starts[i + 1]], tolerance, out, k, stack, kept)
+        out_starts[i + 1] = k
+    return out[:k], out_starts
 
 
 @nb.njit(**_OPTS)
@@ -691,6 +805,20 @@ def _circle_distance(r, circle, row, col):
 
 
 @nb.njit(**_OPTS)
+def _edge_normal(ring, k):
+    """Whether edge ``k`` of a polygon's ring is longer than 1e-9, and its unit normal.
+
+    The normal ``(dy, -dx) / length`` points out of a counter-clockwise ring.
+    """
+    dx = ring[k + 1, 0] - ring[k, 0]
+    dy = ring[k + 1, 1] - ring[k, 1]
+    length = np.hypot(dx, dy)
+    if length > 1e-9:
+        return True, dy / length, -dx / length
+    return False, 0.0, 0.0
+
+
+@nb.njit(**_OPTS)
 def _signed_distance(kind, ring, circle, lo0, lo1, h, w, sd, c, nx, ny):
     """Signed distance of each canvas pixel centre to a convex outline (> 0 inside).
 
@@ -713,13 +841,11 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w, sd, c, nx, ny):
     m = ring.shape[0] - 1
     e = 0
     for k in range(m):
-        dx = ring[k + 1, 0] - ring[k, 0]
-        dy = ring[k + 1, 1] - ring[k, 1]
-        length = np.hypot(dx, dy)
-        if length > 1e-9:
-            nx[e] = dy / length
-            ny[e] = -dx / length
-            c[e] = nx[e] * ring[k, 0] + ny[e] * ring[k, 1]
+        edge, ex, ey = _edge_normal(ring, k)
+        if edge:
+            nx[e] = ex
+            ny[e] = ey
+            c[e] = ex * ring[k, 0] + ey * ring[k, 1]
             e += 1
     for i in range(h):
         row = float(i) + lo0
@@ -762,8 +888,8 @@ def _edge_pixels(f, ys, xs):
 
 @nb.njit(**_OPTS)
 def defect_groups(
-    flat, filled, starts, heights, widths, kind, lo, canvas, rings, ring_starts, verts, vert_lo,
-    vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
+    flat, filled, starts, heights, widths, kind, lo, canvas, frame, rings, ring_starts, verts,
+    vert_lo, vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
 ):  # fmt: skip
     """Holes, and groups of missing and extra pixels large and deep enough, of every object.
 
@@ -772,7 +898,9 @@ def defect_groups(
     ``rings[ring_starts[i]:ring_starts[i + 1]]`` (closed, counter-clockwise),
     2 a circle centred at ``circles[i]`` through the farthest of those
     points; on a canvas of ``canvas[i]`` pixels whose top-left pixel is at
-    ``lo[i]`` in mask coordinates. ``limits[i]`` are the smallest area and
+    ``lo[i]`` in mask coordinates, within a frame whose top-left pixel is at
+    ``frame[i]`` (the centroids and corner distances are computed from it,
+    whatever part of it the canvas covers). ``limits[i]`` are the smallest area and
     depth of a group, the corner radius and a fifth of the outline's area;
     ``extents[i]`` the grid in mask coordinates; ``verts[vert_lo[i]:vert_hi[i]]``
     the outline vertices that mark broken corners.
@@ -872,10 +1000,12 @@ def defect_groups(
         n_edge = -1  # the filled mask's edge pixels, found when first needed
         for group in range(3):
             lo0, lo1 = lo[i, 0], lo[i, 1]
+            f0, f1 = frame[i, 0], frame[i, 1]
             smallest = float(min_hole_area)
             if group == 0:
                 region = holes
                 lo0, lo1 = 0, 0
+                f0, f1 = 0, 0
             elif kind[i] == 0:
                 break
             elif group == 1:
@@ -941,9 +1071,11 @@ def defect_groups(
                         code = BITE
                         near = np.inf
                         for v in range(vert_lo[i], vert_hi[i]):
-                            vx, vy = verts[v, 0] - lo1, verts[v, 1] - lo0
+                            vx, vy = verts[v, 0] - f1, verts[v, 1] - f0
                             for p in range(a, b):
-                                near = min(near, np.hypot(vx - cc[p], vy - rr[p]))
+                                # (in the frame's coordinates, as the distances always were)
+                                px, py = cc[p] + lo1 - f1, rr[p] + lo0 - f0
+                                near = min(near, np.hypot(vx - px, vy - py))
                         if near <= limits[i, 2]:
                             code = BROKEN_CORNER
                 if g == cap:
@@ -963,8 +1095,9 @@ def defect_groups(
                 ints[g, 0], ints[g, 1], ints[g, 2] = i, code, size
                 ints[g, 3], ints[g, 4] = r0 + lo0, c0 + lo1
                 ints[g, 5], ints[g, 6] = r1 + lo0 + 1, c1 + lo1 + 1
-                floats[g, 0] = sr / size + lo0
-                floats[g, 1] = sc / size + lo1
+                # the centroid from the frame's corner, as it always was
+                floats[g, 0] = (sr + size * (lo0 - f0)) / size + f0
+                floats[g, 1] = (sc + size * (lo1 - f1)) / size + f1
                 floats[g, 2] = depth
                 g += 1
     return ints[:g], floats[:g]
@@ -1908,16 +2041,63 @@ def ordered_defects(ints, floats, tops, lefts):
 
 
 @nb.njit(**_OPTS)
+def _grown_bounds(ring, circle, centre, margin, x0, y0, x1, y1, work):
+    """Bounds of where :func:`_signed_distance` can reach ``margin`` or more.
+
+    That is the outline grown by ``-margin``: for a ``circle`` centred at
+    ``centre`` through the farthest point of ``ring``, the circle of radius
+    ``r - margin``; for the polygon ``ring`` (closed, counter-clockwise),
+    each edge's line moved out by ``-margin`` (the mitred outline, whose
+    vertices lie on the bisectors of the edges meeting there), or the
+    polygon's bounds ``x0, y0, x1, y1`` when it shrinks. Unbounded (a vertex
+    too sharp to move) is infinite. ``work``: scratch ``(4, m)`` or more for
+    a ring of ``m`` points.
+    """
+    if circle:
+        r = _circle_radius(ring, centre) - margin
+        return centre[0] - r, centre[1] - r, centre[0] + r, centre[1] + r
+    if margin >= 0:
+        return x0, y0, x1, y1
+    grow = -margin
+    m = ring.shape[0] - 1
+    # the edges longer than 1e-9, as _signed_distance takes them: start and normal
+    px, py, nx, ny = work[0], work[1], work[2], work[3]
+    e = 0
+    for k in range(m):
+        edge, nx[e], ny[e] = _edge_normal(ring, k)
+        if edge:
+            px[e], py[e] = ring[k, 0], ring[k, 1]
+            e += 1
+    if e < 3:
+        return -np.inf, -np.inf, np.inf, np.inf
+    gx0, gy0, gx1, gy1 = np.inf, np.inf, -np.inf, -np.inf
+    for k in range(e):
+        j = k - 1 if k > 0 else e - 1
+        den = 1.0 + nx[j] * nx[k] + ny[j] * ny[k]
+        if not den > 1e-6:
+            return -np.inf, -np.inf, np.inf, np.inf
+        vx = px[k] + grow * (nx[j] + nx[k]) / den
+        vy = py[k] + grow * (ny[j] + ny[k]) / den
+        gx0, gy0 = min(gx0, vx), min(gy0, vy)
+        gx1, gy1 = max(gx1, vx), max(gy1, vy)
+    if not (np.isfinite(gx0) and np.isfinite(gy0) and np.isfinite(gx1) and np.isfinite(gy1)):
+        return -np.inf, -np.inf, np.inf, np.inf
+    return gx0, gy0, gx1, gy1
+
+
+@nb.njit(**_OPTS)
 def defect_setup(
     xy, starts, polygon, circle, cornered, heights, widths, obj_area, width, length, min_area,
-    min_area_fraction, min_depth,
+    min_area_fraction, min_depth, circles, margin,
 ):  # fmt: skip
     """What :func:`defect_groups` needs of each object, from its expected outline.
 
     The outline (closed rings ``xy``, one after the other) is compared with
     the object when it is a polygon of area at least 4: ``kind`` 1 (2 for a
-    ``circle``); its canvas covers mask and outline with 2 pixels to spare
-    (top-left pixel ``lo``, size ``canvas``); its ring is made
+    ``circle`` centred at ``circles[i]``); its canvas (top-left pixel ``lo``,
+    size ``canvas``) covers the mask and the pixels whose centres may lie
+    inside the outline grown by ``-margin`` (:func:`_grown_bounds`), at most
+    2 pixels beyond mask and outline; its ring is made
     counter-clockwise; the vertices of ``cornered`` outlines mark broken
     corners (``vert_lo``, ``vert_hi``); ``limits`` are the thresholds of
     :class:`~tentaclass.scanner.DefectSettings` for the object's area, width
@@ -1927,18 +2107,35 @@ def defect_setup(
     n = starts.shape[0] - 1
     kind = np.zeros(n, dtype=np.int64)
     lo = np.zeros((n, 2), dtype=np.int64)
+    frame = np.zeros((n, 2), dtype=np.int64)
     canvas = np.zeros((n, 2), dtype=np.int64)
     vert_lo = starts[:-1].copy()
     vert_hi = starts[:-1].copy()
     limits = np.empty((n, 4))
+    longest = 1
+    for i in range(n):
+        longest = max(longest, starts[i + 1] - starts[i])
+    work = np.empty((4, longest))
     for i in range(n):
         if polygon[i] and area[i] >= 4:
             kind[i] = 2 if circle[i] else 1
             x0, y0, x1, y1 = bounds[i, 0], bounds[i, 1], bounds[i, 2], bounds[i, 3]
-            lo[i, 0] = int(np.floor(min(y0, 0.0) - 2))
-            lo[i, 1] = int(np.floor(min(x0, 0.0) - 2))
-            canvas[i, 0] = int(np.ceil(max(y1, float(heights[i])) + 2)) - lo[i, 0]
-            canvas[i, 1] = int(np.ceil(max(x1, float(widths[i])) + 2)) - lo[i, 1]
+            gx0, gy0, gx1, gy1 = _grown_bounds(
+                rings[starts[i] : starts[i + 1]], circle[i], circles[i], margin, x0, y0, x1, y1,
+                work,
+            )  # fmt: skip
+            frame[i, 0] = int(np.floor(min(y0, 0.0) - 2))
+            frame[i, 1] = int(np.floor(min(x0, 0.0) - 2))
+            lo[i, 0] = max(frame[i, 0], int(min(0.0, np.ceil(gy0 - 1e-3))))
+            lo[i, 1] = max(frame[i, 1], int(min(0.0, np.ceil(gx0 - 1e-3))))
+            end0 = min(
+                np.ceil(max(y1, float(heights[i])) + 2), max(heights[i], np.floor(gy1 + 1e-3) + 1)
+            )
+            end1 = min(
+                np.ceil(max(x1, float(widths[i])) + 2), max(widths[i], np.floor(gx1 + 1e-3) + 1)
+            )
+            canvas[i, 0] = int(end0) - lo[i, 0]
+            canvas[i, 1] = int(end1) - lo[i, 1]
             if cornered[i]:
                 vert_hi[i] = starts[i + 1] - 1
         pixels = float(obj_area[i])
@@ -1947,4 +2144,4 @@ def defect_setup(
         limits[i, 1] = min(min_depth, max(1.0, 0.2 * width[i]))
         limits[i, 2] = min(3.0, max(1.0, 0.1 * length[i]))
         limits[i, 3] = 0.2 * area[i]
-    return kind, lo, canvas, rings, vert_lo, vert_hi, limits
+    return kind, lo, canvas, frame, rings, vert_lo, vert_hi, limits

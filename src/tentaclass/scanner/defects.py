@@ -33,7 +33,6 @@ from .descriptors import (
     Geometry,
     MaskBatch,
     flatten_masks,
-    polygons_from_rings,
 )
 from .records import Defect
 
@@ -113,15 +112,13 @@ def _triangles(
     with the polygon, applied to all three sides: no library offers it, and a
     search over edge triples is fast for hulls of tens of edges. The hulls
     (closed rings, one after the other) are simplified first (tolerance 0.25
-    px, :func:`shapely.simplify`), and the sides lie on the 12 longest edges;
-    a hull with no qualifying triple stays (simplified). Returns the
+    px, as :func:`shapely.simplify` does: :func:`~._geometry.simplify_rings`),
+    and the sides lie on the 12 longest edges; a hull with no qualifying
+    triple stays (simplified). Returns the
     simplified rings (closed, one after the other), their starts, whether a
     triangle was found and the triangles ``(n, 3, 2)``.
     """
-    n = ring_starts.size - 1
-    simple = shapely.simplify(polygons_from_rings(rings, ring_starts), 0.25)
-    sxy, index = shapely.get_coordinates(simple, return_index=True)
-    starts = np.searchsorted(index, np.arange(n + 1))
+    sxy, starts = geo.simplify_rings(rings, ring_starts, 0.25)
     normal, c, length, edge_starts = geo.hull_edges(sxy, starts)
     theta = np.arctan2(normal[:, 1], normal[:, 0])
     found, tris = geo.triangle_search(normal, c, theta, length, edge_starts)
@@ -136,17 +133,27 @@ _SHAPES = {
 }
 
 
+def shape_codes(labels: Sequence | np.ndarray) -> np.ndarray:
+    """The expected outline each label asks for (``geo.HULL`` for any other class)."""
+    return np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
+
+
 def _expected_rings(
-    rings: np.ndarray, ring_starts: np.ndarray, labels: Sequence | np.ndarray
+    rings: np.ndarray,
+    ring_starts: np.ndarray,
+    labels: Sequence | np.ndarray,
+    code: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`expected_outline` of each centre hull ring (closed, one after the other).
 
-    Returns the outlines' rings as shapely gives their coordinates (closed,
-    one after the other; a point or a line for hulls of collinear centres),
-    their starts, whether each is a polygon, the circles' centroids (zero for
-    the other outlines) and the shape each label asks for.
+    ``code``: :func:`shape_codes` of the labels, if at hand. Returns the
+    outlines' rings as shapely gives their coordinates (closed, one after the
+    other; a point or a line for hulls of collinear centres), their starts,
+    whether each is a polygon, the circles' centroids (zero for the other
+    outlines) and the shape each label asks for.
     """
-    code = np.array([_SHAPES.get(str(x), geo.HULL) for x in labels], dtype=np.int64)
+    if code is None:
+        code = shape_codes(labels)
     shape, triangles = geo.outline_shapes(ring_starts, code)
     if triangles.size:
         tri = _triangles(*geo.gather_rings(rings, ring_starts, triangles))
@@ -220,12 +227,14 @@ def defect_arrays(
     settings: DefectSettings,
     extents: np.ndarray,
     centres: tuple[np.ndarray, np.ndarray] | None = None,
+    shapes: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Defects of the objects of a measured batch, in arrays.
 
     ``extents``: ``(n, 4)`` the grid of each object in its mask's
     coordinates (infinite: no edge); ``centres``: the hull rings of the
-    cores' pixel centres and their starts, if measured. Returns what
+    cores' pixel centres and their starts, if measured; ``shapes``:
+    :func:`shape_codes` of the labels, if at hand. Returns what
     :func:`~._geometry.defect_groups` returns: ``ints`` (object, code, area,
     box) and ``floats`` (centroid, depth), one row per defect.
     """
@@ -234,16 +243,16 @@ def defect_arrays(
     assert filled is not None and core is not None  # set by measure_batch_arrays
     if centres is None:
         centres = _centre_rings(batch._replace(mask=core))
-    xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels)
+    xy, out_starts, polygon, circles, code = _expected_rings(*centres, labels, shapes)
     cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
-    kind, lo, canvas, rings, vert_lo, vert_hi, limits = geo.defect_setup(
+    kind, lo, canvas, frame, rings, vert_lo, vert_hi, limits = geo.defect_setup(
         xy, out_starts, polygon, code == geo.CIRCLE, cornered,
         heights, widths, np.asarray(object_area), np.asarray(width, dtype=float),
         np.asarray(length, dtype=float), float(s.min_area), float(s.min_area_fraction),
-        float(s.min_depth),
+        float(s.min_depth), circles, float(s.margin),
     )  # fmt: skip
     return geo.defect_groups(
-        flat, filled, starts, heights, widths, kind, lo, canvas, rings, out_starts, xy,
+        flat, filled, starts, heights, widths, kind, lo, canvas, frame, rings, out_starts, xy,
         vert_lo, vert_hi, circles, limits, extents.astype(float), float(s.margin),
         int(s.min_hole_area), float(s.min_burr_area),
     )  # fmt: skip

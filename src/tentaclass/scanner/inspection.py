@@ -12,10 +12,17 @@ from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
 from ..features.fourier import _blas_controller
 from ._rounding import rounded
-from .defects import REASON, DefectSettings, defect_arrays, defect_fields, defect_records
+from .defects import (
+    REASON,
+    DefectSettings,
+    defect_arrays,
+    defect_fields,
+    defect_records,
+    shape_codes,
+)
 from .descriptors import Geometry, MaskBatch, flatten_masks, measure_batch_arrays
 from .model import _ONE_THREAD_MIN_ROWS, ScannerModel, crop, default_model
-from .records import Defect, Inspection, ScannedObject, new_inspection
+from .records import Defect, Inspection, ScannedObject, collector_paused, new_inspection
 
 __all__ = ["NominalSize", "inspect", "inspect_many"]
 
@@ -183,6 +190,7 @@ def _check_options(
     return model, settings, tol
 
 
+@collector_paused
 def inspect_masks(
     masks: Sequence[np.ndarray] | None,
     offsets: Sequence[tuple[int, int]] | np.ndarray,
@@ -237,7 +245,7 @@ def inspect_masks(
         ).reshape(n, 4)
     ints, floats = defect_arrays(
         m.batch, m.area, m.width, m.length, labels, settings, ext - np.tile(off, 2),
-        (m.centres, m.centre_starts),
+        (m.centres, m.centre_starts), shape_codes(names)[best],
     )  # fmt: skip
     if nominal_size is not None or not single:
         found = defect_records(ints, floats, tops, lefts)

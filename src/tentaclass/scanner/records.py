@@ -9,8 +9,14 @@ the stream and columns pixels across the belt.
 
 from __future__ import annotations
 
+import functools
+import gc
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+from typing import Any, ParamSpec, TypeVar
+
+_P = ParamSpec("_P")
+_R = TypeVar("_R")
 
 __all__ = ["DEFECT_KINDS", "Defect", "Inspection", "ScannedObject"]
 
@@ -273,3 +279,25 @@ def new_scanned(id: int, first_row: int, last_row: int, inspection: Inspection) 
         {"id": id, "first_row": first_row, "last_row": last_row, "inspection": inspection}
     )
     return obj
+
+
+def collector_paused(func: Callable[_P, _R]) -> Callable[_P, _R]:
+    """``func`` run with Python's cyclic garbage collector paused (if it was on).
+
+    A batch of thousands of records allocates tens of thousands of objects,
+    none of them in a reference cycle; the collector would go over them
+    several times while they are built (and over all older objects at times).
+    Paused, it goes over them once, at its next run after the batch.
+    """
+
+    @functools.wraps(func)
+    def paused(*args: _P.args, **kwargs: _P.kwargs) -> _R:
+        if not gc.isenabled():
+            return func(*args, **kwargs)
+        gc.disable()
+        try:
+            return func(*args, **kwargs)
+        finally:
+            gc.enable()
+
+    return paused
