@@ -24,6 +24,8 @@ import math
 import numba as nb
 import numpy as np
 
+from .._geos import point_segment_distance as _point_segment_distance
+
 _OPTS = {"cache": True, "nogil": True}
 
 
@@ -547,21 +549,6 @@ def rectangle_sides(corners):
         else:
             long[i], short[i], edge[i, 0], edge[i, 1] = l2, l1, bx, by
     return long, short, edge
-
-
-@nb.njit(**_OPTS)
-def _point_segment_distance(px, py, ax, ay, bx, by):
-    """GEOS's Distance::pointToSegment from ``p`` to the segment ``a b``, with its arithmetic."""
-    if ax == bx and ay == by:
-        return np.sqrt((px - ax) * (px - ax) + (py - ay) * (py - ay))
-    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
-    r = ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / len2
-    if r <= 0.0:
-        return np.sqrt((px - ax) * (px - ax) + (py - ay) * (py - ay))
-    if r >= 1.0:
-        return np.sqrt((px - bx) * (px - bx) + (py - by) * (py - by))
-    s = ((ay - py) * (bx - ax) - (ax - px) * (by - ay)) / len2
-    return abs(s) * np.sqrt(len2)
 
 
 @nb.njit(**_OPTS)

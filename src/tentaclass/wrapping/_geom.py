@@ -10,6 +10,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from .._geos import point_segment_distance as _point_segment_distance
+
 TWO_PI = 2.0 * np.pi
 
 
@@ -546,21 +548,6 @@ def free_direction_links(ax, ay, ux, uy, ln, obj, eps, joints, last, boxes):
         if not blocked(ax, ay, px[t], py[t], obj, eps, joints, last, boxes):
             return True, px[t], py[t], on[t]
     return False, ax, ay, False
-
-
-@nb.njit(cache=True, inline="always")
-def _point_segment_distance(x, y, ax, ay, bx, by):
-    """Distance from ``(x, y)`` to segment a-b, computed as GEOS computes it (same roundings)."""
-    if ax == bx and ay == by:
-        return np.sqrt((x - ax) * (x - ax) + (y - ay) * (y - ay))
-    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
-    r = ((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / len2
-    if r <= 0.0:
-        return np.sqrt((x - ax) * (x - ax) + (y - ay) * (y - ay))
-    if r >= 1.0:
-        return np.sqrt((x - bx) * (x - bx) + (y - by) * (y - by))
-    s = ((ay - y) * (bx - ax) - (ax - x) * (by - ay)) / len2
-    return abs(s) * np.sqrt(len2)
 
 
 @nb.njit(cache=True)
