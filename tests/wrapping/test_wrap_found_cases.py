@@ -19,6 +19,7 @@ def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **k
     """Wrap ``OUTLINES[name]``, check it, and check that link ``link`` passes ``corner``.
 
     The first ``n_clean`` links (all if None) must pass the contact-model check.
+    Returns the wrap.
     """
     outline = OUTLINES[name]
     ln = link_length(outline, frac)
@@ -27,6 +28,7 @@ def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **k
     line = shapely.LineString(w.joints[link : link + 2])
     assert shapely.distance(shapely.Point(corner), line) < 1e-9
     assert not object_violations(outline, w.joints, w.direction)[:n_clean].any()
+    return w
 
 
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
@@ -76,19 +78,11 @@ def test_a_vanishing_thickness_is_no_thickness(mode):
     assert thin.complete and thin.laps > 2
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="a start point within about 1e-7 of the perimeter of a corner: the taut link "
-    "from the approach is placed along the next edge instead of pivoting on the corner, "
-    "and runs through a sliver (up to 1e-6 wide) of the object",
-)
 def test_taut_l_wrap_started_a_hair_past_the_corner():
     # clockwise round the L from 1.2e-7 of the perimeter past (0, 0) along the bottom
-    # edge, half a link (2.85 long) of stand-off below it: the link must rest on the
-    # corner (0, 0) and end at x < 0; it ends at x = 0, crossing the bottom edge
-    outline = OUTLINES["L"]
-    ln = link_length(outline, 0.25)
-    w = wrap(outline, 1, ln, start=1.192092896e-07, direction="cw", mode="taut",
-             offset=0.5 * ln)  # fmt: skip
-    check_geometry(outline, w, ln)
+    # edge, half a link (2.85 long) of stand-off below it: the link to the next edge
+    # would cut a sliver 7e-7 wide off the L's foot; it rests on the corner (0, 0)
+    # instead, its tip in the air left of the L
+    w = check_rests("L", 0.25, 1, 0, (0, 0), offset_links=0.5, start=1.192092896e-07,
+                    direction="cw", mode="taut")  # fmt: skip
+    assert w.joints[0, 0] > 0 and w.joints[1, 0] < 0
