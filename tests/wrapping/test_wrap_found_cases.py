@@ -86,3 +86,14 @@ def test_taut_l_wrap_started_a_hair_past_the_corner():
     w = check_rests("L", 0.25, 1, 0, (0, 0), offset_links=0.5, start=1.192092896e-07,
                     direction="cw", mode="taut")  # fmt: skip
     assert w.joints[0, 0] > 0 and w.joints[1, 0] < 0
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("corner", range(4))
+def test_taut_square_wrap_started_a_hair_before_each_corner(corner, direction):
+    # the same at every corner of the square, walking either way: started 1.2e-7 of
+    # the perimeter before the corner, the first link rests on it
+    before = 1.2e-7 if direction == "ccw" else -1.2e-7
+    start = (corner / 4 - before) % 1.0
+    check_rests("square", 0.13, 6, 0, OUTLINES["square"][corner], offset_links=0.5,
+                start=start, direction=direction, mode="taut")  # fmt: skip
