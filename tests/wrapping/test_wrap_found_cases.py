@@ -97,3 +97,22 @@ def test_taut_square_wrap_started_a_hair_before_each_corner(corner, direction):
     start = (corner / 4 - before) % 1.0
     check_rests("square", 0.13, 6, 0, OUTLINES["square"][corner], offset_links=0.5,
                 start=start, direction=direction, mode="taut")  # fmt: skip
+
+
+def test_taut_comb_chord_over_a_corner_does_not_run_through_a_slot():
+    # eight 4.75-long links, 2.7 links of stand-off: a tip in the air 0.04 left of the
+    # comb's top-left corner lies on the left edge (within the slack); the chord
+    # from it round the bottom-left corner to the bottom edge would run through the
+    # first tooth, the first slot and the second tooth. The link rests on the
+    # corner (0, 0) instead, tip in the air below the comb, and the next link
+    # reaches up onto the bottom edge
+    comb = OUTLINES["comb"]
+    ln = link_length(comb, 0.25)
+    w = wrap(comb, 8, ln, start=0.96875, offset=2.7 * ln, mode="taut")
+    check_geometry(comb, w, ln)
+    line = shapely.LineString(w.joints[6:8])
+    assert shapely.distance(shapely.Point(0, 0), line) < 1e-9
+    assert w.lap[6] == 0 and w.lap[7] == -1 and w.joints[7, 1] < 0 and w.lap[8] == 1
+    # (link 5, from above the comb over its top-left corner, spans more than half
+    # the outline, which the independent check reads as spanning nothing)
+    assert not object_violations(comb, w.joints, w.direction)[6:].any()
