@@ -15,11 +15,10 @@ from tentaclass.wrapping import wrap
 from wrap_checks import link_length
 
 
-def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **kw):
+def check_rests(name, frac, n, link, corner, offset_links=0.0, **kw):
     """Wrap ``OUTLINES[name]``, check it, and check that link ``link`` passes ``corner``.
 
-    The first ``n_clean`` links (all if None) must pass the contact-model check.
-    Returns the wrap.
+    Every link must pass the contact-model check. Returns the wrap.
     """
     outline = OUTLINES[name]
     ln = link_length(outline, frac)
@@ -27,15 +26,17 @@ def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **k
     check_geometry(outline, w, ln)
     line = shapely.LineString(w.joints[link : link + 2])
     assert shapely.distance(shapely.Point(corner), line) < 1e-9
-    assert not object_violations(outline, w.joints, w.direction)[:n_clean].any()
+    assert not object_violations(outline, w.joints, w.direction).any()
     return w
 
 
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
     # the links (3.375) reach from a tooth's top across the hull to the bottom edge,
-    # through the object: the first one rests on the comb's top-left corner instead
-    # (the fourth, a chord across the bottom-right corner, dips into the last slot)
-    check_rests("comb", 0.140625, 6, 0, (0, 3), n_clean=3, start=0.8125, mode="taut")
+    # through the object: the first one rests on the comb's top-left corner instead;
+    # the fourth, a chord across the bottom-right corner that would run through the
+    # last slot, rests on that corner
+    check_rests("comb", 0.140625, 6, 0, (0, 3), start=0.8125, mode="taut")
+    check_rests("comb", 0.140625, 6, 3, (5, 0), start=0.8125, mode="taut")
 
 
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():

@@ -413,8 +413,9 @@ def walk(
     corner it passes; 3 as 2, but first look further along (up to
     ``bridge_limit`` of arc) for a point the link can reach without crossing.
     ``vidx`` (taut): the outline index of each hull vertex; a link between two
-    points of curve 0 is then only tested against the outline between the hull
-    vertices around it (the only part of the object its hull cap can hold), as
+    points of curve 0 across a pocket is then only tested against the outline
+    between the hull vertices around it (the part of the object its hull cap
+    holds but for pockets of other hull edges reaching in under it), as
     is a link from a tip beyond the hull vertex its link rests on; a link from
     another joint in the air, against the whole outline if it enters the hull;
     a chord joining two points of the object's own hull edges round a hull
