@@ -112,6 +112,12 @@ def check_geometry(outline, w, ln):
 )
 # found by the fuzz profile: a stand-off longer than the whole chain is refused
 @example(name="L", n=1, frac=0.25, start=0.0, direction="ccw", mode="taut", offset_links=2.7)
+# found by the fuzz profile: a link from a tip in the air that cuts a sliver 7e-7 wide
+# off the hull, and a chord round a corner through a slot of the comb
+@example(name="L", n=1, frac=0.25, start=1.192092896e-07, direction="cw", mode="taut",
+         offset_links=0.5)  # fmt: skip
+@example(name="comb", n=8, frac=0.25, start=0.96875, direction="ccw", mode="taut",
+         offset_links=2.7)  # fmt: skip
 def test_wrap_geometry_properties(name, n, frac, start, direction, mode, offset_links):
     outline = OUTLINES[name]
     ln = link_length(outline, frac)

@@ -15,10 +15,10 @@ from tentaclass.wrapping import wrap
 from wrap_checks import link_length
 
 
-def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **kw):
+def check_rests(name, frac, n, link, corner, offset_links=0.0, **kw):
     """Wrap ``OUTLINES[name]``, check it, and check that link ``link`` passes ``corner``.
 
-    The first ``n_clean`` links (all if None) must pass the contact-model check.
+    Every link must pass the contact-model check. Returns the wrap.
     """
     outline = OUTLINES[name]
     ln = link_length(outline, frac)
@@ -26,14 +26,17 @@ def check_rests(name, frac, n, link, corner, offset_links=0.0, n_clean=None, **k
     check_geometry(outline, w, ln)
     line = shapely.LineString(w.joints[link : link + 2])
     assert shapely.distance(shapely.Point(corner), line) < 1e-9
-    assert not object_violations(outline, w.joints, w.direction)[:n_clean].any()
+    assert not object_violations(outline, w.joints, w.direction).any()
+    return w
 
 
 def test_taut_comb_wrap_with_links_longer_than_the_slots():
     # the links (3.375) reach from a tooth's top across the hull to the bottom edge,
-    # through the object: the first one rests on the comb's top-left corner instead
-    # (the fourth, a chord across the bottom-right corner, dips into the last slot)
-    check_rests("comb", 0.140625, 6, 0, (0, 3), n_clean=3, start=0.8125, mode="taut")
+    # through the object: the first one rests on the comb's top-left corner instead;
+    # the fourth, a chord across the bottom-right corner that would run through the
+    # last slot, rests on that corner
+    check_rests("comb", 0.140625, 6, 0, (0, 3), start=0.8125, mode="taut")
+    check_rests("comb", 0.140625, 6, 3, (5, 0), start=0.8125, mode="taut")
 
 
 def test_taut_l_wrap_with_links_nearly_as_long_as_the_object():
@@ -76,19 +79,41 @@ def test_a_vanishing_thickness_is_no_thickness(mode):
     assert thin.complete and thin.laps > 2
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="a start point within about 1e-7 of the perimeter of a corner: the taut link "
-    "from the approach is placed along the next edge instead of pivoting on the corner, "
-    "and runs through a sliver (up to 1e-6 wide) of the object",
-)
 def test_taut_l_wrap_started_a_hair_past_the_corner():
     # clockwise round the L from 1.2e-7 of the perimeter past (0, 0) along the bottom
-    # edge, half a link (2.85 long) of stand-off below it: the link must rest on the
-    # corner (0, 0) and end at x < 0; it ends at x = 0, crossing the bottom edge
-    outline = OUTLINES["L"]
-    ln = link_length(outline, 0.25)
-    w = wrap(outline, 1, ln, start=1.192092896e-07, direction="cw", mode="taut",
-             offset=0.5 * ln)  # fmt: skip
-    check_geometry(outline, w, ln)
+    # edge, half a link (2.85 long) of stand-off below it: the link to the next edge
+    # would cut a sliver 7e-7 wide off the L's foot; it rests on the corner (0, 0)
+    # instead, its tip in the air left of the L
+    w = check_rests("L", 0.25, 1, 0, (0, 0), offset_links=0.5, start=1.192092896e-07,
+                    direction="cw", mode="taut")  # fmt: skip
+    assert w.joints[0, 0] > 0 and w.joints[1, 0] < 0
+
+
+@pytest.mark.parametrize("direction", ["ccw", "cw"])
+@pytest.mark.parametrize("corner", range(4))
+def test_taut_square_wrap_started_a_hair_before_each_corner(corner, direction):
+    # the same at every corner of the square, walking either way: started 1.2e-7 of
+    # the perimeter before the corner, the first link rests on it
+    before = 1.2e-7 if direction == "ccw" else -1.2e-7
+    start = (corner / 4 - before) % 1.0
+    check_rests("square", 0.13, 6, 0, OUTLINES["square"][corner], offset_links=0.5,
+                start=start, direction=direction, mode="taut")  # fmt: skip
+
+
+def test_taut_comb_chord_over_a_corner_does_not_run_through_a_slot():
+    # eight 4.75-long links, 2.7 links of stand-off: a tip in the air 0.04 left of the
+    # comb's top-left corner lies on the left edge (within the slack); the chord
+    # from it round the bottom-left corner to the bottom edge would run through the
+    # first tooth, the first slot and the second tooth. The link rests on the
+    # corner (0, 0) instead, tip in the air below the comb, and the next link
+    # reaches up onto the bottom edge
+    comb = OUTLINES["comb"]
+    ln = link_length(comb, 0.25)
+    w = wrap(comb, 8, ln, start=0.96875, offset=2.7 * ln, mode="taut")
+    check_geometry(comb, w, ln)
+    line = shapely.LineString(w.joints[6:8])
+    assert shapely.distance(shapely.Point(0, 0), line) < 1e-9
+    assert w.lap[6] == 0 and w.lap[7] == -1 and w.joints[7, 1] < 0 and w.lap[8] == 1
+    # (link 5, from above the comb over its top-left corner, spans more than half
+    # the outline, which the independent check reads as spanning nothing)
+    assert not object_violations(comb, w.joints, w.direction)[6:].any()

@@ -42,7 +42,7 @@ def test_blocked_crossing_test_agrees_with_the_plain_one(rng):
 def test_entering_a_convex_polygon_agrees_with_shapely(rng):
     hull = np.asarray(shapely.Polygon(star(5, 0.8, 2.0)).convex_hull.exterior.coords)[:-1]
     hull = hull if shapely.LinearRing(hull).is_ccw else hull[::-1]
-    body = shapely.Polygon(hull).buffer(-1e-6)
+    body = shapely.Polygon(hull).buffer(-1e-9)
     segs = random_segments(rng, 3000, -3.0, 3.0)
     got = np.array([enters_convex(*a, *b, hull, 1e-12) for a, b in segs])
     want = shapely.length(shapely.intersection(shapely.linestrings(segs), body)) > 0
@@ -53,6 +53,18 @@ def test_entering_a_convex_polygon_agrees_with_shapely(rng):
     assert not enters_convex(*a, *b, hull, 1e-12)
     assert not enters_convex(*(2 * a - b), *a, hull, 1e-12)
     assert enters_convex(*a, *hull[2], hull, 1e-12)
+
+
+def test_a_segment_cutting_a_sliver_off_a_convex_polygon_enters_it():
+    # from 1.4e-6 left of the square's corner, a link 1.4 below its bottom edge
+    # to its right edge cuts a sliver 7e-7 wide: inside by far more than the
+    # crossing test's own side test (1e-12 in signed area) resolves
+    square = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]])
+    a, b = (2.9999986, -1.425), (3.0, 1.425)
+    assert enters_convex(*a, *b, square, 1e-12)
+    assert crosses(*a, *b, square, 1e-12)
+    # the same link through the corner (tip beyond it, in the air) stays outside
+    assert not enters_convex(*a, 3.0000014, 1.425, square, 1e-12)
 
 
 def test_blocked_crossing_edge_and_inside_agree_with_the_plain_ones(rng):

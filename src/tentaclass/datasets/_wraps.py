@@ -415,7 +415,7 @@ def _generator_digest() -> str:
 #: Version of the cached wraps: raised whenever the wraps themselves change (the
 #: protocols, what the draws and the search mean, or the taut and hug links), even
 #: where the hash of the generator's source would tell the change too.
-_WRAPS_VERSION = 2
+_WRAPS_VERSION = 3
 
 
 def _cache_dir() -> Path:

@@ -464,21 +464,22 @@ def inside_boxed(x, y, obj, eps, boxes):
 def enters_convex(ax, ay, bx, by, hull, eps):
     """True if segment a-b has points inside the convex ccw polygon ``hull``.
 
-    Inside means further than ``sqrt(eps)`` from its outline: ending on the
-    outline or touching it does not count. The segment is clipped to each
-    edge's inner half-plane in turn (Cyrus-Beck).
+    Inside means on the inner side of every edge by more than ``eps`` in
+    signed area (edge vector cross offset): the side test with which
+    :func:`crossing_edge` tells a segment's ends apart, so that a segment it
+    finds crossing an object edge on the hull does enter, however shallow the
+    sliver it cuts. Ending on the outline or touching it does not count. The
+    segment is clipped to each edge's inner half-plane in turn (Cyrus-Beck).
     """
-    r = np.sqrt(eps)
     m = hull.shape[0]
     t_lo, t_hi = 0.0, 1.0
     for i in range(m):
         i2 = i + 1 if i + 1 < m else 0
         ex, ey = hull[i2, 0] - hull[i, 0], hull[i2, 1] - hull[i, 1]
-        ll = np.sqrt(ex * ex + ey * ey)
-        if ll == 0.0:
+        if ex == 0.0 and ey == 0.0:
             continue
-        fa = ex * (ay - hull[i, 1]) - ey * (ax - hull[i, 0]) - r * ll
-        fb = ex * (by - hull[i, 1]) - ey * (bx - hull[i, 0]) - r * ll
+        fa = ex * (ay - hull[i, 1]) - ey * (ax - hull[i, 0]) - eps
+        fb = ex * (by - hull[i, 1]) - ey * (bx - hull[i, 0]) - eps
         if fa <= 0.0 and fb <= 0.0:
             return False
         if fa > 0.0 and fb > 0.0:

@@ -413,10 +413,14 @@ def walk(
     corner it passes; 3 as 2, but first look further along (up to
     ``bridge_limit`` of arc) for a point the link can reach without crossing.
     ``vidx`` (taut): the outline index of each hull vertex; a link between two
-    points of curve 0 is then only tested against the outline between the hull
-    vertices around it (the only part of the object its hull cap can hold), as
+    points of curve 0 across a pocket is then only tested against the outline
+    between the hull vertices around it (the part of the object its hull cap
+    holds but for pockets of other hull edges reaching in under it), as
     is a link from a tip beyond the hull vertex its link rests on; a link from
-    another joint in the air, against the whole outline if it enters the hull.
+    another joint in the air, against the whole outline if it enters the hull;
+    a chord joining two points of the object's own hull edges round a hull
+    vertex, against the outline beyond the hull edges it spans (a pocket that
+    reaches in under it).
     ``boxes``: :func:`edge_boxes` of ``obj``; ``track``: :func:`track_blocks` of the curves.
     Returns ``(status, n_placed, phi_virtual)``.
     """
@@ -519,6 +523,26 @@ def walk(
                 cross = crosses_range_boxed(ax, ay, xx, xy, obj, eps, i0 % m_obj, cnt, boxes)
             else:
                 cross = crosses_boxed(ax, ay, xx, xy, obj, eps, boxes)
+        elif (
+            check >= 2
+            and 0 < vidx.shape[0] < m_obj
+            and sk >= 0
+            and k >= 0
+            and (k != sk or j != sj)
+            and (off.shape[0] == 2 or max(sk, k) == 0)
+            and sj <= m0
+            and j <= m0
+            and (k - sk) * m0 + j - sj < m0 - 1
+        ):
+            # A chord between two points of the object's own hull edges cuts
+            # the corners it passes, which are the object's; but a pocket under
+            # another hull edge may reach in under it (a link nearly as long as
+            # the object): it must not cross the outline beyond its stretch.
+            i0 = vidx[(es[0] + j + 1) % m0]
+            i1 = vidx[(es[0] + sj) % m0]
+            cnt = (i1 - i0) % m_obj
+            if cnt > 0:
+                cross = crosses_range_boxed(ax, ay, xx, xy, obj, eps, i0, cnt, boxes)
         if cross:
             overhang = True
             if check == 3:  # look further along for a point the link can reach
