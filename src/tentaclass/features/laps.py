@@ -29,6 +29,10 @@ _STEP = 0.1
 _TURN_TOL = np.pi / 2
 #: ... and the chain's end lies within this fraction of a lap of the point one lap before.
 _GAP_TOL = 0.3
+#: A lap overlapping the chain by less than this fraction of the chain ...
+_SHORT_OVERLAP = 1 / 8
+#: ... only where the chain's end comes within this many links of the point a lap before.
+_SHORT_GAP = 3.0
 
 
 @dataclass(frozen=True)
@@ -88,6 +92,14 @@ def _periods(heading: FloatArray, points: np.ndarray, start: FloatArray) -> Floa
     end and the point ``P`` links before it, relative to ``P``. Exact for a
     clean wrap (the gap closes), robust to noise (the heading comparison uses
     local angles only).
+
+    A lap that overlaps the chain by less than ``_SHORT_OVERLAP`` of it
+    compares only a few headings, which a lap about as long as the whole
+    chain can match by chance (a hugging chain's second lap meets the
+    outline at other points than its first, so the right lap length's
+    headings differ by up to a radian on a wiggly outline). Such a lap is
+    accepted only where the chain's end comes back within ``_SHORT_GAP``
+    links of the point one lap before it.
     """
     b, n = heading.shape
     cands = np.arange(3.0, n + _STEP / 2, _STEP)
@@ -111,6 +123,8 @@ def _periods(heading: FloatArray, points: np.ndarray, start: FloatArray) -> Floa
         turned = h[:, -1:] - _interp(h, np.broadcast_to(n - 1.0 - cands, (m, len(cands))))
         # a lap overlaps itself by a link or more and its ends meet again
         ok = (count >= 2) & (np.abs(turned - 2 * np.pi) < _TURN_TOL) & (gap < _GAP_TOL)
+        # count is in half links: a short overlap must close in links, not only relative to P
+        ok &= (count >= 2 * _SHORT_OVERLAP * n) | (gap * cands < _SHORT_GAP)
         ok &= cands[None, :] <= n - a[:, None]
         cost = np.where(ok, cost, np.inf)
         best = np.argmin(cost, axis=1)
