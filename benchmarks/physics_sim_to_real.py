@@ -236,8 +236,9 @@ def mpeg7_test_objects(outlines, labels, per_class, seed=0, n_links=64):
     return test_idx, objs, starts, dirs, target
 
 
-def mpeg7(folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links=64,
-          train_laps=(1.2, 2.0)):
+def mpeg7(
+    folder, per_class, copies, quasi_copies, jobs, arrays, seed=0, n_links=64, train_laps=(1.2, 2.0)
+):
     outlines, labels, _ = shapes.load_mpeg7(folder, max_vertices=1000)
     labels = np.asarray(labels)
     test_idx, train_idx = mpeg7_split(labels, per_class, seed)

@@ -51,10 +51,12 @@ def test_ragged_rows_are_named_by_fit_and_predict(thesis, make):
         use(RAGGED)
 
 
-@pytest.mark.xfail(reason="TentacleClassifier validates with scikit-learn's own check", strict=True)
 def test_tentacle_classifier_names_ragged_rows(thesis):
     with pytest.raises(ShapeError, match="X: rows have different lengths"):
         TentacleClassifier().fit(RAGGED, thesis[1][:2])
+    model = TentacleClassifier().fit(*thesis)
+    with pytest.raises(ShapeError, match=r"^X: rows have different lengths \(16 and 15"):
+        model.predict(RAGGED)
 
 
 @pytest.mark.parametrize(

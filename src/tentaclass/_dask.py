@@ -236,9 +236,7 @@ def apply_rows(func: Callable[[np.ndarray], Any], x: Any, name: str = "rows") ->
             new_axes=dict(zip(core, probe.shape[1:], strict=True)),
             concatenate=True, dtype=probe.dtype, meta=metas[0], token=name,
         )  # fmt: skip
-    return da.apply_gufunc(
-        blocks, "(n)->" + ",".join(cores), x, output_sizes=sizes, meta=metas
-    )
+    return da.apply_gufunc(blocks, "(n)->" + ",".join(cores), x, output_sizes=sizes, meta=metas)
 
 
 class _ReadThen:

@@ -17,12 +17,11 @@ from sklearn.neural_network import MLPClassifier
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
 from sklearn.utils.multiclass import check_classification_targets
-from sklearn.utils.validation import check_is_fitted, validate_data
 from threadpoolctl import threadpool_limits
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_int
+from .._validation import check_fitted_X, check_positive_int, check_X_y
 from ..errors import InputError
 from ..features import LapSplit, last_lap, split_laps
 from . import _elastic
@@ -245,7 +244,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         self : TentacleClassifier
         """
         rate = self._check_params()
-        Xv, yv = validate_data(self, X, y, dtype=np.float64)
+        Xv, yv = check_X_y(self, X, y, dtype=np.float64)
         check_classification_targets(yv)
         groups = np.arange(len(yv)) if groups is None else np.asarray(groups)
         if groups.shape != (len(yv),):
@@ -336,8 +335,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
     # -------------------------------------------------------------- predict
     def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray, FloatArray]:
         """Class distances, closed flags, laps and unknown-ness (see ``_checked_scores``)."""
-        check_is_fitted(self)
-        return self._checked_scores(validate_data(self, X, dtype=np.float64, reset=False))
+        return self._checked_scores(check_fitted_X(self, X))
 
     def predict_proba(self, X: ArrayLike) -> FloatArray:
         """Calibrated class probabilities, shape (n_samples, n_classes); rows sum to 1."""
