@@ -66,6 +66,23 @@ def test_tiled_computation_equals_single_block(rng, monkeypatch, dtype):
     np.testing.assert_allclose(tiled, full, rtol=1e-12 if dtype == "float64" else 1e-5)
 
 
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+@pytest.mark.parametrize("shift", [0.0, 40.0])
+def test_small_batches_score_as_in_a_large_batch_to_the_last_bit(rng, dtype, shift):
+    # small batches take the all-classes-at-once pass, a large one the tiles:
+    # the same numbers either way (a shift puts every class in a framed regime)
+    X = rng.normal(size=(300, 6))
+    y = rng.integers(0, 4, 300)
+    T = rng.normal(size=(5000, 6)) * 2 + shift
+    clf = PNNClassifier(spread=0.5, dtype=dtype).fit(X, y)
+    assert T.shape[0] * X.shape[0] > pnn_module._WHOLE_MAX >= 40 * X.shape[0]
+    large = clf._joint_log_likelihood(T)
+    for lo in (0, 17, 4000):
+        small = clf._joint_log_likelihood(T[lo : lo + 40])
+        assert np.array_equal(small, large[lo : lo + 40])
+    assert np.array_equal(clf._joint_log_likelihood(T[3:4]), large[3:4])
+
+
 def test_memory_budget_caps_the_tile(monkeypatch):
     monkeypatch.setattr(pnn_module, "MAX_BLOCK_BYTES", 8 * 40 * 3)
     clf = PNNClassifier().fit(np.arange(80.0)[:, None], [0] * 40 + [1] * 40)
