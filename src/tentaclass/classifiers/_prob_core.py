@@ -31,6 +31,17 @@ def _logsumexp_rows(a: FloatArray) -> FloatArray:
         from scipy.special import logsumexp
 
         return np.asarray(logsumexp(a, axis=1, keepdims=True))
+    if np.isfinite(a).all():
+        # the same steps less those that only matter for infinite or NaN scores
+        # (every row then has a maximum counted at least once, a sum >= 0)
+        a_max = np.max(a, axis=1, keepdims=True)
+        top = a == a_max
+        m = np.sum(top.astype(np.float64), axis=1, keepdims=True, dtype=np.float64)
+        with np.errstate(over="ignore"):
+            s = np.sum(np.exp(np.where(top, -np.inf, a) - a_max), axis=1, keepdims=True)
+            out = np.log1p(s / m) + np.log(m) + a_max
+        if np.isfinite(out).all():
+            return out
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         out_inf = np.log(np.sum(np.exp(a), axis=1, keepdims=True))
         a_max = np.max(a, axis=1, keepdims=True)
