@@ -157,7 +157,7 @@ class PNNCore(ProbabilisticCore):
         n, n_classes = xa.shape[0], self.classes_.size
         dt = xa.dtype
         low, big = _FRAME_LOW[dt.type], _SUM_BIG[dt.type]
-        if n * self._pt.shape[1] <= _WHOLE_MAX and len(tiles) == n_classes:
+        if n * self._pt.shape[1] <= _WHOLE_MAX and len(tiles) == n_classes and dt == np.float64:
             whole = self._log_sums_whole(xa, low, big)
             if whole is not None:
                 return whole
@@ -172,7 +172,7 @@ class PNNCore(ProbabilisticCore):
         return frame + np.log(s)
 
     def _log_sums_whole(self, xa: np.ndarray, low: float, big: float) -> FloatArray | None:
-        """:meth:`_log_sums` of a small batch when every class is one tile.
+        """:meth:`_log_sums` of a small float64 batch when every class is one tile.
 
         The same values in fewer steps (one ``exp``, one maximum and one frame
         pass for all classes at once, which matters for small batches); None
@@ -192,7 +192,8 @@ class PNNCore(ProbabilisticCore):
             ones = np.ones(int(self.class_count_.max()), dtype=dt)
             s = np.empty(frame.shape)
             for c, (a, b) in enumerate(edges):
-                s[:, c] = t[:, a:b] @ ones[: b - a]
+                # contiguous, as a tile is (BLAS's sums may follow the layout)
+                s[:, c] = np.ascontiguousarray(t[:, a:b]) @ ones[: b - a]
         if not (s <= big).all():
             return None
         return frame + np.log(s)
@@ -218,22 +219,28 @@ class PNNCore(ProbabilisticCore):
         ones = np.ones(max(b - a for _, a, b in tiles), dtype=dt)
         xs = xb.copy()  # xb with the current class's frame folded in
         current = -1
+        exp_low = float(np.exp(low))
         with np.errstate(over="ignore"):  # overflowing tile sums are redone below
             for c, a, b in tiles:
                 t = buf[: xb.shape[0] * (b - a)].reshape(xb.shape[0], b - a)
-                if c != current:  # first tile of class c: fix the frame
-                    current = c
-                    np.matmul(xb, pt[:, a:b], out=t)
-                    m0 = t.max(axis=1).astype(np.float64)
-                    f = np.where(m0 > low, 0.0, m0)
-                    fb[:, c] = f
-                    xs[:, -1] = xb[:, -1] - f.astype(dt)
-                    if f.any():
-                        t -= f.astype(dt)[:, None]
-                else:
-                    np.matmul(xs, pt[:, a:b], out=t)
+                np.matmul(xb if c != current else xs, pt[:, a:b], out=t)
                 np.exp(t, out=t)
                 tsum = (t @ ones[: b - a]).astype(np.float64)
+                if c != current:  # first tile of class c: fix the frame
+                    current = c
+                    f = np.zeros(xb.shape[0])
+                    # a row whose kernel is above exp(low) somewhere in the tile
+                    # has no frame (a sum of b - a kernels all below it is less)
+                    if not (tsum > 2 * (b - a) * exp_low).all():
+                        np.matmul(xb, pt[:, a:b], out=t)
+                        m0 = t.max(axis=1).astype(np.float64)
+                        f = np.where(m0 > low, 0.0, m0)
+                        if f.any():
+                            t -= f.astype(dt)[:, None]
+                        np.exp(t, out=t)
+                        tsum = (t @ ones[: b - a]).astype(np.float64)
+                    fb[:, c] = f
+                    xs[:, -1] = xb[:, -1] - f.astype(dt)
                 bad = ~(tsum <= big)
                 if bad.any():
                     idx = np.flatnonzero(bad)
