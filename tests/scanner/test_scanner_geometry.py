@@ -276,7 +276,7 @@ def test_simplified_rings_are_shapelys_coordinate_for_coordinate(tolerance):
         pts = rng.normal(size=(int(rng.integers(3, 40)), 2)) * rng.uniform(0.3, 20)
         if rng.random() < 0.5:
             pts = pts.round()
-        rings.append(hull_ring(pts[:, 0], pts[:, 1]))
+        rings.append(hull_ring(*np.ascontiguousarray(pts.T)))  # the C-order rows it is compiled for
     xy, starts, polys = _ragged([r for r in rings if len(r) >= 4], shift_seed=4)
     ours, ours_starts = simplify_rings(xy, starts, tolerance)
     ref_xy, index = shapely.get_coordinates(shapely.simplify(polys, tolerance), return_index=True)

@@ -20,13 +20,20 @@ from tentaclass.wrapping._geom import (
 )
 
 
+def frozen(a):
+    """``a`` read-only, as a wrap's surface holds its outline and curves (the kernels' types)."""
+    a = np.ascontiguousarray(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
 def random_segments(rng, n, lo, hi):
     return rng.uniform(lo, hi, (n, 2, 2))
 
 
 def test_blocked_crossing_test_agrees_with_the_plain_one(rng):
     # 100 vertices: the edges fall in 7 blocks, the last one short, in one group
-    outline = star(50, 1.0, 2.0, 0.1)
+    outline = frozen(star(50, 1.0, 2.0, 0.1))
     boxes = edge_boxes(outline)
     assert boxes.shape == (7 + 1, 4)
     lo, hi = outline.min(axis=0), outline.max(axis=0)
@@ -41,7 +48,7 @@ def test_blocked_crossing_test_agrees_with_the_plain_one(rng):
 
 def test_entering_a_convex_polygon_agrees_with_shapely(rng):
     hull = np.asarray(shapely.Polygon(star(5, 0.8, 2.0)).convex_hull.exterior.coords)[:-1]
-    hull = hull if shapely.LinearRing(hull).is_ccw else hull[::-1]
+    hull = frozen(hull if shapely.LinearRing(hull).is_ccw else hull[::-1])
     body = shapely.Polygon(hull).buffer(-1e-9)
     segs = random_segments(rng, 3000, -3.0, 3.0)
     got = np.array([enters_convex(*a, *b, hull, 1e-12) for a, b in segs])
@@ -59,7 +66,7 @@ def test_a_segment_cutting_a_sliver_off_a_convex_polygon_enters_it():
     # from 1.4e-6 left of the square's corner, a link 1.4 below its bottom edge
     # to its right edge cuts a sliver 7e-7 wide: inside by far more than the
     # crossing test's own side test (1e-12 in signed area) resolves
-    square = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]])
+    square = frozen([[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]])
     a, b = (2.9999986, -1.425), (3.0, 1.425)
     assert enters_convex(*a, *b, square, 1e-12)
     assert crosses(*a, *b, square, 1e-12)
@@ -68,7 +75,7 @@ def test_a_segment_cutting_a_sliver_off_a_convex_polygon_enters_it():
 
 
 def test_blocked_crossing_edge_and_inside_agree_with_the_plain_ones(rng):
-    outline = star(150, 1.0, 2.0, 0.1)  # 19 blocks in 3 groups
+    outline = frozen(star(150, 1.0, 2.0, 0.1))  # 19 blocks in 3 groups
     boxes = edge_boxes(outline)
     eps = 1e-12 * 4.0**2
     segs = random_segments(rng, 2000, -2.5, 2.5)
@@ -88,6 +95,7 @@ def test_blocked_crossing_edge_and_inside_agree_with_the_plain_ones(rng):
 def test_outline_distances_equal_shapely_bit_for_bit(rng):
     outline = star(40, 1.0, 2.0, 0.1)
     outline[5] = outline[4]  # a zero-length edge
+    outline = frozen(outline)
     pts = np.concatenate([rng.uniform(-3, 3, (1500, 2)), outline, 0.5 * (outline + outline[0])])
     got = outline_distances(pts, outline, edge_boxes(outline))
     want = shapely.distance(shapely.LinearRing(outline), shapely.points(pts))
@@ -96,7 +104,7 @@ def test_outline_distances_equal_shapely_bit_for_bit(rng):
 
 
 def test_locate_finds_the_first_nearest_edge_of_a_plain_scan(rng):
-    curve = star(60, 1.0, 2.0, 0.1)
+    curve = frozen(star(60, 1.0, 2.0, 0.1))
     mids = 0.5 * (curve + np.roll(curve, 1, 0))
     pts = np.concatenate([rng.uniform(-3, 3, (500, 2)), curve, mids])
     e, t, p = locate(pts, curve)
@@ -114,7 +122,7 @@ def test_locate_finds_the_first_nearest_edge_of_a_plain_scan(rng):
 
 
 def test_blocked_range_crossing_test_agrees_with_the_plain_one(rng):
-    outline = star(50, 1.0, 2.0, 0.1)
+    outline = frozen(star(50, 1.0, 2.0, 0.1))
     boxes = edge_boxes(outline)
     eps = 1e-12 * 4.0**2
     segs = random_segments(rng, 400, -2.5, 2.5)
@@ -132,11 +140,12 @@ def test_search_over_track_blocks_finds_what_the_edge_by_edge_search_finds(rng):
     from tentaclass.wrapping._kernel import _search, track_blocks
     from tentaclass.wrapping._surface import _edge_theta
 
-    pts = star(100, 1.0, 2.0, 0.1)  # 200 vertices: 12 whole blocks
+    pts = frozen(star(100, 1.0, 2.0, 0.1))  # 200 vertices: 12 whole blocks
     m = len(pts)
     off = np.array([0, m])
-    theta = _edge_theta(pts)
-    dev = np.where(rng.uniform(size=m) < 0.2, 0.3, 0.0)
+    off.setflags(write=False)
+    theta = frozen(_edge_theta(pts))
+    dev = frozen(np.where(rng.uniform(size=m) < 0.2, 0.3, 0.0))
     es, spt = np.array([7]), pts[7:8] + 0.5 * (pts[8] - pts[7])
     boff, boxes, top_dev, seg_len = track_blocks(pts, off, dev)
     blind = np.tile([-np.inf, np.inf, -np.inf, np.inf], (len(boxes), 1))  # never clear

@@ -25,6 +25,7 @@ import numba as nb
 import numpy as np
 
 from .._geos import point_segment_distance as _point_segment_distance
+from .._jit import plain_calls
 
 _OPTS = {"cache": True, "nogil": True}
 
@@ -2132,3 +2133,6 @@ def defect_setup(
         limits[i, 2] = min(3.0, max(1.0, 0.1 * length[i]))
         limits[i, 3] = 0.2 * area[i]
     return kind, lo, canvas, frame, rings, vert_lo, vert_hi, limits
+
+
+plain_calls(globals())

@@ -20,6 +20,8 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from .._jit import plain_calls
+
 # label pool columns
 PARENT, NEXT, TAIL, FIRST, LAST, MINC, AREA, STATUS, RHEAD, RTAIL = range(10)
 N_LAB_FIELDS = 10
@@ -377,3 +379,6 @@ def compact_output(out: np.ndarray, out_runs: np.ndarray) -> tuple[np.ndarray, n
     new[:, 5] = starts[:-1]
     new[:, 6] = starts[1:]
     return new, out_runs[index]
+
+
+plain_calls(globals())

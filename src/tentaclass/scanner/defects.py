@@ -247,7 +247,7 @@ def defect_arrays(
     cornered = (code == geo.RECTANGLE) | (code == geo.TRIANGLE)
     kind, lo, canvas, frame, rings, vert_lo, vert_hi, limits = geo.defect_setup(
         xy, out_starts, polygon, code == geo.CIRCLE, cornered,
-        heights, widths, np.asarray(object_area), np.asarray(width, dtype=float),
+        heights, widths, np.asarray(object_area, dtype=float), np.asarray(width, dtype=float),
         np.asarray(length, dtype=float), float(s.min_area), float(s.min_area_fraction),
         float(s.min_depth), circles, float(s.margin),
     )  # fmt: skip

@@ -504,6 +504,8 @@ class LineScanner:
         if mode == 0 and dark:
             arr = (arr == 0).view(np.uint8)
             dark = False
+        # C order: the kernel is compiled for contiguous rows of each pixel type only
+        arr = np.ascontiguousarray(arr)
         start, n = 0, arr.shape[0]
         while True:
             rows = arr[start:] if start else arr

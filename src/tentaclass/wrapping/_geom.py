@@ -11,6 +11,7 @@ import numba as nb
 import numpy as np
 
 from .._geos import point_segment_distance as _point_segment_distance
+from .._jit import plain_calls
 
 TWO_PI = 2.0 * np.pi
 
@@ -587,3 +588,6 @@ def outline_distances(points, obj, boxes):
                     hint = b
         out[q] = best
     return out
+
+
+plain_calls(globals())

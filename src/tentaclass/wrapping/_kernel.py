@@ -18,6 +18,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from .._jit import plain_calls
 from ._geom import (
     TWO_PI,
     _foot,
@@ -746,3 +747,6 @@ def walk_many(
         )
         status[q], placed[q], phi_v[q] = s, p, v
     return joints, contact, lap, phi, status, placed, phi_v
+
+
+plain_calls(globals())

@@ -101,7 +101,8 @@ def _distance_to_outline(points: FloatArray, outline: FloatArray) -> FloatArray:
     """
     from ._geom import edge_boxes, outline_distances  # numba: compiled on first use
 
-    obj = np.ascontiguousarray(outline, dtype=np.float64)
+    obj = np.ascontiguousarray(outline, dtype=np.float64).view()
+    obj.setflags(write=False)  # as a surface holds it: one compiled version serves both
     return outline_distances(np.ascontiguousarray(points, dtype=np.float64), obj, edge_boxes(obj))
 
 
