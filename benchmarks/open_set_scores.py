@@ -27,7 +27,7 @@ from bench_recognition import MPEG7, UNSEEN, _fixed_chain_folds
 MEMBERS = ("lap", "exact", "spectrum", "elastic", "last")
 
 
-def collect(folds: int, out: Path, every: int = 1) -> None:
+def collect(folds: int, out: Path, every: int = 1, start: int = 0) -> None:
     """Fit once per fold and save every member's class distances (npz per fold)."""
     from tentaclass import TentacleClassifier
     from tentaclass.classifiers import _tentacle
@@ -40,6 +40,8 @@ def collect(folds: int, out: Path, every: int = 1) -> None:
     unseen = np.isin(d.target, UNSEEN)
     out.mkdir(parents=True, exist_ok=True)
     for i, (tr, te) in enumerate(_fixed_chain_folds(d, folds)):
+        if i < start:
+            continue
         tr = tr[~unseen[tr] & d.complete[tr]][::every]
         te = te[::every]
         kept: dict = {}
@@ -100,8 +102,9 @@ if __name__ == "__main__":
     p = argparse.ArgumentParser()
     p.add_argument("what", choices=["collect", "evaluate"])
     p.add_argument("--folds", type=int, default=3)
+    p.add_argument("--start", type=int, default=0)
     p.add_argument("--every", type=int, default=1)
     p.add_argument("--dir", type=Path, default=Path("open-set-scores"))
     a = p.parse_args()
     if a.what == "collect":
-        collect(a.folds, a.dir, a.every)
+        collect(a.folds, a.dir, a.every, a.start)
