@@ -98,6 +98,71 @@ def collect(folds: int, out: Path, every: int = 1, start: int = 0) -> None:
         print(f"fold {i}: {time.perf_counter() - t0:.0f} s, closed {closed.mean():.3f}", flush=True)
 
 
+def _limit(known: np.ndarray, rate: float) -> float:
+    """The split-conformal limit: the ``1 - rate`` quantile of the known wraps' scores."""
+    s = np.sort(known)
+    return float(s[min(len(s) - 1, int(np.ceil((len(s) + 1) * (1 - rate))) - 1)])
+
+
+def evaluate(out: Path, rate: float = 0.05) -> str:
+    """Unseen and known wraps rejected, and AUROC, for each candidate score, per fold and pooled.
+
+    Candidates: the rule of ``_fit_rejection`` over several member sets
+    (``el`` is the rule of models saved before, ``el+last`` the present
+    one), each single feature of :func:`_novelty_features` over the four
+    distance members, and the calibrated top probability. The limit of
+    every score comes from the held-out training wraps only.
+    """
+    from sklearn.metrics import roc_auc_score
+
+    from tentaclass.classifiers._tentacle import _class_spreads, _fit_rejection
+    from tentaclass.classifiers._tentacle_core import _blend, _novelty_features, softmax_rows
+
+    rules = {"el": (3,), "el+last": (3, 4), "last": (4,), "el+last+lap+exact": (3, 4, 0, 1)}
+    single = (3, 4, 0, 1)
+    names = ["blend ratio"] + [f"{MEMBERS[j]} ratio" for j in single]
+    names += [f"{MEMBERS[j]} / spread" for j in single]
+    pooled: dict[str, list] = {}
+    for f in sorted(out.glob("fold*.npz")):
+        z = dict(np.load(f))
+        y, k, w, (scale, temperature) = z["y_train"], len(z["spread"]), z["weights"], z["scale"]
+        m_tr = [z.get(f"train_{n}") for n in MEMBERS]
+        m_te = [z.get(f"test_{n}") for n in MEMBERS]
+        b_tr, b_te = _blend(m_tr, w) / scale, _blend(m_te, w) / scale
+        u = z["unseen"]
+        scores = {}
+        for name, idx in rules.items():
+            used = [m_tr[j] for j in idx]
+            spreads = [_class_spreads(m, y, k) for m in used]
+            coef, limit = _fit_rejection(b_tr, used, y, spreads, rate)
+            te = _novelty_features(b_te, [m_te[j] for j in idx], [sp for sp, _ in spreads])
+            scores[f"rule {name}"] = (np.array([limit]), te @ coef[:-1] + coef[-1])
+        spreads = [_class_spreads(m_tr[j], y, k) for j in single]
+        tr = _novelty_features(b_tr, [m_tr[j] for j in single], [lo for _, lo in spreads])
+        te = _novelty_features(b_te, [m_te[j] for j in single], [sp for sp, _ in spreads])
+        for c, name in enumerate(names):
+            scores[name] = (tr[:, c], te[:, c])
+        top = (-softmax_rows(-b_tr / temperature).max(1), -softmax_rows(-b_te / temperature).max(1))
+        scores["1 - top probability"] = top
+        for name, (known, test) in scores.items():
+            lim = known[0] if name.startswith("rule") else _limit(known, rate)
+            rej = test > lim
+            pooled.setdefault(name, []).append(
+                (rej[u].sum(), u.sum(), rej[~u].sum(), (~u).sum(), roc_auc_score(u, test))
+            )
+    n = len(pooled["rule el"])
+    lines = [f"| score | unseen rejected | known rejected | AUROC per fold ({n}) |"]
+    lines.append("|---|---|---|---|")
+    for name, rows in sorted(pooled.items(), key=lambda t: -np.mean([r[4] for r in t[1]])):
+        a = np.array(rows, dtype=float)
+        lines.append(
+            f"| {name} | {a[:, 0].sum() / a[:, 1].sum():.1%} ({a[:, 0].sum():.0f} / "
+            f"{a[:, 1].sum():.0f}) | {a[:, 2].sum() / a[:, 3].sum():.1%} | mean "
+            f"{a[:, 4].mean():.3f} ({a[:, 4].min():.3f}-{a[:, 4].max():.3f}) |"
+        )
+    return "\n".join(lines)
+
+
 if __name__ == "__main__":
     p = argparse.ArgumentParser()
     p.add_argument("what", choices=["collect", "evaluate"])
@@ -108,3 +173,5 @@ if __name__ == "__main__":
     a = p.parse_args()
     if a.what == "collect":
         collect(a.folds, a.dir, a.every, a.start)
+    else:
+        print(evaluate(a.dir))
