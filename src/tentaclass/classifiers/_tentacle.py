@@ -123,8 +123,8 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         A wrap is rejected when it looks more like an object of a class
         never trained on than all but that fraction of held-out training
         wraps do: as close to its second class as to its first (blended and
-        elastic), or far from its class for how compact the class is (see
-        ``reject_coef_``). The rule is learnt from held-out training wraps
+        by each elastic matcher), or far from its class for how compact the
+        class is (see ``reject_coef_``). The rule is learnt from held-out training wraps
         (up to 1000), each scored as it is and with its own class taken out
         (then it is an object of an unseen class), and its limit is the
         quantile of the known ones at the requested fraction. Partial wraps
