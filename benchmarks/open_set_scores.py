@@ -7,7 +7,7 @@ member's class distances; ``evaluate`` then scores candidate novelty
 scores cheaply: the share of unseen objects rejected at the limit giving
 5 % false rejections on held-out training wraps, and AUROC on the test fold.
 
-Run: ``python benchmarks/open_set_scores.py collect --folds 3 --dir DIR``
+Run: ``python benchmarks/open_set_scores.py collect --folds 10 --dir DIR``
 then ``python benchmarks/open_set_scores.py evaluate --dir DIR``.
 """
 
@@ -169,7 +169,7 @@ if __name__ == "__main__":
     p.add_argument("--folds", type=int, default=3)
     p.add_argument("--start", type=int, default=0)
     p.add_argument("--every", type=int, default=1)
-    p.add_argument("--dir", type=Path, default=Path("open-set-scores"))
+    p.add_argument("--dir", type=Path, default=Path("bench-results/open-set-scores"))
     a = p.parse_args()
     if a.what == "collect":
         collect(a.folds, a.dir, a.every, a.start)
