@@ -294,3 +294,37 @@ def test_partial_arc_found_whatever_its_turning_says():
     assert np.argmin(d[0]) == 2 and d[0, 2] < 0.05
     taken_as_told = _arc_distances(_resample_rows(arc, _arc_points(told, n)), heads)
     assert d[0, 2] < 0.5 * taken_as_told[0, 2]
+
+
+def test_rejection_reads_both_elastic_members_and_older_rules_still_work():
+    from tentaclass.classifiers._tentacle_core import _blend, _three_or_more
+    from tentaclass.features import split_laps
+
+    d = synthetic_tentacle(200, 32, laps=(1.1, 2.0), noise=0.02, random_state=18)
+    known = d.complete & (d.target != "triangle")
+    clf = TentacleClassifier(reject=0.1).fit(d.data[known], d.target[known])
+    k = len(clf.classes_)
+    assert clf.reject_coef_.shape == (6,) and clf.class_spread_.shape == (2 * k,)
+    assert len(clf.last_heights_) == known.sum()  # the rule needs the last laps' outlines
+    # a rule saved before the last lap's matcher joined it: three features, one spread
+    old = copy.deepcopy(clf)
+    old.reject_coef_ = np.array([1.5, 2.0, 3.0, -4.0])
+    old.class_spread_ = clf.class_spread_[:k]
+    X = d.data[d.complete][:60]
+    split = split_laps(_three_or_more(X), clf.n_points)
+    _, closed, _, novelty = old._checked_scores(X)
+    members = old._closed_members(X[closed], split.lap[closed])
+    blend = _blend(members, old.weights_) / old.scale_
+    el, best = members[3], np.argmin(blend, axis=1)
+    o, e = np.sort(blend, axis=1), np.sort(el, axis=1)
+    rows = np.arange(len(best))
+    with np.errstate(invalid="ignore"):  # 0 / 0 where a wrap matches two classes exactly
+        ratios = [o[:, 0] / o[:, 1], e[:, 0] / e[:, 1], el[rows, best] / old.class_spread_[best]]
+    features = np.log1p(np.nan_to_num(np.stack(ratios, axis=1), nan=0.0))
+    expected = features @ [1.5, 2.0, 3.0] - 4.0 - old.reject_threshold_
+    np.testing.assert_allclose(novelty[closed], expected)
+    unknown = np.flatnonzero(closed)[expected > 0]
+    assert np.all(old.predict(X)[unknown] == "unknown")
+    # without rejection the last laps' outlines are not kept when their weight is 0
+    plain = TentacleClassifier().fit(d.data[known], d.target[known])
+    assert plain.weights_[4] > 0 or len(plain.last_heights_) == 0

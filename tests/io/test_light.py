@@ -78,11 +78,17 @@ def default_models(wraps16, default_recognisers):
     for name in ("last_scale_", "last_heights_", "last_complexity_"):
         delattr(four, name)
     four.weights_ = four.weights_[:4]
+    # a rejecting model saved before the last lap's matcher joined the rule
+    one = copy.deepcopy(rejecting)
+    one.reject_coef_ = rejecting.reject_coef_[[0, 1, 3, 5]]
+    one.class_spread_ = rejecting.class_spread_[: len(rejecting.classes_)]
+    if one.weights_[4] == 0:
+        one.last_heights_, one.last_complexity_ = one.last_heights_[:0], one.last_complexity_[:0]
     return {"thesis": small, "reject": rejecting, "blended": blended, "binary": binary,
-            "four": four}  # fmt: skip
+            "four": four, "reject_one": one}  # fmt: skip
 
 
-@pytest.mark.parametrize("name", ["thesis", "reject", "blended", "binary", "four"])
+@pytest.mark.parametrize("name", ["thesis", "reject", "blended", "binary", "four", "reject_one"])
 def test_saved_default_models_predict_alike(tmp_path, default_models, name):
     model = default_models[name]
     path = save_model(model, tmp_path / "m.tcm")

@@ -27,6 +27,7 @@ from ..features import LapSplit, last_lap, split_laps
 from . import _elastic
 from ._shift_nn import ShiftNNClassifier
 from ._tentacle_core import (
+    REJECT_MEMBERS,
     TentacleCore,
     _arc_points,
     _blend,
@@ -122,8 +123,8 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         A wrap is rejected when it looks more like an object of a class
         never trained on than all but that fraction of held-out training
         wraps do: as close to its second class as to its first (blended and
-        elastic), or far from its class for how compact the class is (see
-        ``reject_coef_``). The rule is learnt from held-out training wraps
+        by each elastic matcher), or far from its class for how compact the
+        class is (see ``reject_coef_``). The rule is learnt from held-out training wraps
         (up to 1000), each scored as it is and with its own class taken out
         (then it is an object of an unseen class), and its limit is the
         quantile of the known ones at the requested fraction. Partial wraps
@@ -175,14 +176,18 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         Softmax temperature of full wraps (on scaled distances).
     partial_scale_, partial_temperature_ : float
         The same for partial wraps.
-    class_spread_ : ndarray of shape (n_classes,)
-        Typical held-out elastic distance of each class's wraps to their own
-        class (empty without ``reject``).
-    reject_coef_ : ndarray of shape (4,)
-        Weights of the three rejection features
-        (``tentaclass.classifiers._tentacle_core._novelty_features``: blended
-        and elastic ratios of the nearest to the second nearest class, elastic
-        distance over the class's spread, each ``log(1 + r)``) and the intercept.
+    class_spread_ : ndarray of shape (2 * n_classes,)
+        Typical held-out distance of each class's wraps to their own class,
+        by the elastic matcher of the averaged lap, then by that of the last
+        lap (empty without ``reject``; models saved before the last lap's
+        matcher joined the rule hold the first half only).
+    reject_coef_ : ndarray of shape (6,)
+        Weights of the five rejection features
+        (``tentaclass.classifiers._tentacle_core._novelty_features``: the
+        ratio of the nearest to the second nearest class of the blend and of
+        each elastic matcher, each elastic matcher's distance to the nearest
+        class over that class's spread, each ``log(1 + r)``) and the
+        intercept (shape (4,), three features, in models saved before).
     reject_threshold_ : float
         Full wraps scoring above it are "unknown" (``inf`` without ``reject``).
     partial_reject_distance_ : float
@@ -298,17 +303,18 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         if self.weights_[3] == 0 and rate is None:
             self.elastic_heights_ = self.elastic_heights_[:0]
             self.elastic_complexity_ = self.elastic_complexity_[:0]
-        if self.weights_[4] == 0:
+        if self.weights_[4] == 0 and rate is None:
             self.last_heights_ = self.last_heights_[:0]
             self.last_complexity_ = self.last_complexity_[:0]
         self.scale_, self.temperature_, _, _ = _calibrate(blended, y_idx[q], rate)
         self.class_spread_ = np.empty(0)
         self.reject_coef_, self.reject_threshold_ = np.zeros(4), np.inf
         if rate is not None:
-            el = s_el / self.elastic_scale_
-            self.class_spread_, spread_loo = _class_spreads(el, y_idx[q], k)
+            used = [m for j in REJECT_MEMBERS if (m := members[j]) is not None]
+            spreads = [_class_spreads(m, y_idx[q], k) for m in used]
+            self.class_spread_ = np.concatenate([sp for sp, _ in spreads])
             self.reject_coef_, self.reject_threshold_ = _fit_rejection(
-                blended / self.scale_, el, y_idx[q], self.class_spread_, spread_loo, rate
+                blended / self.scale_, used, y_idx[q], spreads, rate
             )
         # partial wraps: arcs of 0.5-0.95 laps cut from the training laps
         closed = np.flatnonzero(split.closed)
@@ -540,10 +546,9 @@ def _class_spreads(
 
 def _fit_rejection(
     s: FloatArray,
-    elastic: FloatArray,
+    members: list[FloatArray],
     y: np.ndarray,
-    spread: FloatArray,
-    spread_loo: FloatArray,
+    spreads: list[tuple[FloatArray, FloatArray]],
     rate: float,
 ) -> tuple[FloatArray, float]:
     """Coefficients and limit of the rejection rule from held-out training wraps.
@@ -551,19 +556,24 @@ def _fit_rejection(
     Each held-out wrap is seen twice: as it is (a known object) and with its
     own class taken out of its scores (what an object of a class never
     trained on looks like: its nearest class is another one). A logistic
-    regression on :func:`_novelty_features` tells the two apart; the limit is
-    the ``1 - rate`` quantile of the known wraps' scores (split-conformal:
-    a new object of a known class is rejected with probability about ``rate``).
-    Returns ``(coefficients and intercept (4,), limit)``.
+    regression on :func:`_novelty_features` of ``members`` tells the two
+    apart; the limit is the ``1 - rate`` quantile of the known wraps' scores
+    (split-conformal: a new object of a known class is rejected with
+    probability about ``rate``). ``spreads`` holds each member's
+    :func:`_class_spreads`. Returns ``(coefficients and intercept, limit)``.
     """
     from sklearn.linear_model import LogisticRegression
 
     rows = np.arange(len(y))
-    known = _novelty_features(s, elastic, spread_loo)
-    s_out, e_out = s.copy(), elastic.copy()
+    known = _novelty_features(s, members, [loo for _, loo in spreads])
+    s_out = s.copy()
     s_out[rows, y] = np.inf
-    e_out[rows, y] = np.inf
-    unseen = _novelty_features(s_out, e_out, spread)
+    out = []
+    for m in members:
+        m = m.copy()
+        m[rows, y] = np.inf
+        out.append(m)
+    unseen = _novelty_features(s_out, out, [spread for spread, _ in spreads])
     features = np.vstack([known, unseen])
     target = np.r_[np.zeros(len(y)), np.ones(len(y))]
     with warnings.catch_warnings():

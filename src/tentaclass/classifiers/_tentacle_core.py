@@ -35,6 +35,10 @@ _EXACT_GAP = 1.5
 #: Training wraps matched elastically per query: the nearest by the lap matcher
 #: and by the exact matcher (the elastic matcher re-ranks them).
 _ELASTIC_CANDIDATES = (30, 15)
+#: Members whose scores the rejection rule reads, in order (indices into
+#: ``_closed_members``: the elastic matchers of the averaged and of the last
+#: lap); a rule over ``m`` members reads the first ``m``.
+REJECT_MEMBERS = (3, 4)
 
 
 class TentacleCore:
@@ -89,7 +93,7 @@ class TentacleCore:
         if closed.any():
             members = self._closed_members(Xv[closed], split.lap[closed])
             out[closed] = _blend(members, self._weights()) / self.scale_
-            novelty[closed] = self._closed_novelty(out[closed], members[3])
+            novelty[closed] = self._closed_novelty(out[closed], members)
         # barely more than a lap: maybe a partial wrap whose ends happen to meet
         near_one = np.flatnonzero(closed & (laps < _AMBIGUOUS_LAPS))
         if near_one.size:
@@ -130,7 +134,17 @@ class TentacleCore:
             return bool(np.isfinite(self.reject_threshold_))
         return bool(np.isfinite(self.reject_distance_) or np.isfinite(self.reject_margin_))
 
-    def _closed_novelty(self, s: FloatArray, elastic: FloatArray | None) -> FloatArray:
+    def _reject_members(self) -> int:
+        """How many members (of ``REJECT_MEMBERS``) the fitted rejection rule reads.
+
+        0 without the rule; 1 (the averaged lap's elastic matcher) in models
+        saved before the last lap's elastic matcher joined the rule.
+        """
+        if not (hasattr(self, "reject_coef_") and self._rejects()):
+            return 0
+        return (len(self.reject_coef_) - 2) // 2
+
+    def _closed_novelty(self, s: FloatArray, members: list[FloatArray | None]) -> FloatArray:
         """How far full wraps lie past the rejection limit (positive: "unknown")."""
         if not self._rejects():
             return np.full(len(s), -np.inf)
@@ -138,8 +152,10 @@ class TentacleCore:
             ordered = np.sort(s, axis=1)
             margin = ordered[:, 1] - ordered[:, 0] if s.shape[1] > 1 else np.full(len(s), np.inf)
             return np.maximum(ordered[:, 0] - self.reject_distance_, self.reject_margin_ - margin)
-        assert elastic is not None
-        f = _novelty_features(s, elastic, self.class_spread_)
+        m = self._reject_members()
+        used = [members[j] for j in REJECT_MEMBERS[:m]]
+        spreads = list(self.class_spread_.reshape(m, -1))
+        f = _novelty_features(s, used, spreads)  # type: ignore[arg-type]
         return f @ self.reject_coef_[:-1] + self.reject_coef_[-1] - self.reject_threshold_
 
     def _closed_members(self, X: FloatArray, laps: FloatArray) -> list[FloatArray | None]:
@@ -153,16 +169,18 @@ class TentacleCore:
         s_lap = _class_minima(d_lap, self.matcher_.labels_, k) / self.lap_scale_
         s_exact = s_spec = s_el = s_last = None
         w = self._weights()
-        elastic = w[3] > 0 or (hasattr(self, "reject_coef_") and self._rejects())
-        if w[1] > 0 or elastic or w[4] > 0:
+        rule = self._reject_members()
+        elastic = w[3] > 0 or rule >= 1
+        last_lap_outline = w[4] > 0 or rule >= 2
+        if w[1] > 0 or elastic or last_lap_outline:
             last = last_lap(X, self.n_points)[0]
             d_exact = np.sqrt(self.exact_.shift_distances(last))
             s_exact = _class_minima(d_exact, self.exact_.labels_, k) / self.exact_scale_
         if w[2] > 0:
             s_spec = _spectrum_scores(self.spectrum_, _spectrum_features(X), k)
-        if elastic or w[4] > 0:
+        if elastic or last_lap_outline:
             s_el, s_last = self._elastic_minima(
-                laps if elastic else None, last if w[4] > 0 else None, d_lap, d_exact
+                laps if elastic else None, last if last_lap_outline else None, d_lap, d_exact
             )
             s_el = None if s_el is None else s_el / self.elastic_scale_
             s_last = None if s_last is None else s_last / self.last_scale_
@@ -235,29 +253,44 @@ class TentacleCore:
         return pred
 
 
-def _novelty_features(s: FloatArray, elastic: FloatArray, spread: FloatArray) -> FloatArray:
-    """What tells a wrap of an unseen class, per wrap: three ratios, each ``log(1 + r)``.
+def _novelty_features(
+    s: FloatArray, members: list[FloatArray], spreads: list[FloatArray]
+) -> FloatArray:
+    """What tells a wrap of an unseen class, per wrap: ratios, each ``log(1 + r)``.
 
     - the blended score of the nearest class over that of the second nearest
       (near 1: as close to two classes as to one);
-    - the same for the elastic member alone;
-    - the elastic distance to the nearest class over that class's spread
-      (the typical distance of its training wraps to their nearest other
-      wrap of the class): far from a compact class weighs more than from a
+    - for each of ``members``: the same for that member alone,
+    - then for each member: its distance to the blend's nearest class over
+      that class's spread (the typical distance of its training wraps to
+      their own class): far from a compact class weighs more than from a
       loose one.
 
-    ``s`` and ``elastic`` are (n, n_classes) scores, ``spread`` (n_classes,)
-    or (n, n_classes).
+    ``s`` and each member are (n, n_classes) scores, each of ``spreads``
+    (n_classes,) or (n, n_classes). Returns (n, 1 + 2 * len(members)).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[1.0, 2.0, 4.0]])
+    >>> f = _novelty_features(s, [s], [np.array([0.5, 1.0, 1.0])])
+    >>> np.round(np.expm1(f), 3)
+    array([[0.5, 0.5, 2. ]])
     """
     rows = np.arange(len(s))
     best = np.argmin(s, axis=1)
-    ordered = np.sort(s, axis=1)
-    el = np.sort(elastic, axis=1)
+
+    def ratio(a: FloatArray) -> FloatArray:
+        if a.shape[1] < 2:
+            return np.zeros(len(a))
+        o = np.sort(a, axis=1)
+        return o[:, 0] / o[:, 1]
+
     with np.errstate(divide="ignore", invalid="ignore"):
-        ratios = [
-            ordered[:, 0] / ordered[:, 1] if s.shape[1] > 1 else np.zeros(len(s)),
-            el[:, 0] / el[:, 1] if s.shape[1] > 1 else np.zeros(len(s)),
-            elastic[rows, best] / np.broadcast_to(spread, s.shape)[rows, best],
+        ratios = [ratio(s)] + [ratio(m) for m in members]
+        ratios += [
+            m[rows, best] / np.broadcast_to(sp, s.shape)[rows, best]
+            for m, sp in zip(members, spreads, strict=True)
         ]
     f = np.stack(ratios, axis=1)
     return np.log1p(np.clip(np.nan_to_num(f, nan=0.0, posinf=1e6), 0.0, 1e6))

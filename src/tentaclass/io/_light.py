@@ -229,10 +229,14 @@ class _Tentacle(TentacleCore, _Light):
         _require(_is_array(self.elastic_complexity_, "f", 1))
         _require(_is_array(self.headings_, "f", 2) and _is_array(self.arc_labels_, "iu", 1))
         if hasattr(self, "reject_coef_"):
-            _require(_is_array(self.reject_coef_, "f", 1) and self.reject_coef_.shape == (4,))
+            _require(_is_array(self.reject_coef_, "f", 1))
+            _require(self.reject_coef_.shape in {(4,), (6,)})
+            rule = len(self.reject_coef_) // 2 - 1  # members the rejection rule reads
             _require(_is_array(self.class_spread_, "f", 1))
             _require(isinstance(self.reject_threshold_, float))
-            _require(self.class_spread_.size in (0, len(self.classes_)))
+            _require(self.class_spread_.size in (0, rule * len(self.classes_)))
+            _require(rule < 2 or members == 5)
+            _require(rule < 2 or len(self.last_heights_) == len(self.exact_.labels_))
             _require(self.class_spread_.size > 0 or not np.isfinite(self.reject_threshold_))
 
     def _scores(self, X: ArrayLike) -> tuple[FloatArray, np.ndarray, FloatArray, FloatArray]:
