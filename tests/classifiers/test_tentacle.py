@@ -111,8 +111,9 @@ def test_wraps_just_short_of_a_lap_are_partial(model, noise):
 
 
 def test_unknown_class_is_rejected(model):
-    d = synthetic_tentacle(500, 32, laps=(1.1, 2.0), noise=0.0, random_state=14)
-    t = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, random_state=15)
+    # measured: every triangle rejected, 5.1 % of the other wraps
+    d = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, random_state=14)
+    t = synthetic_tentacle(200, 32, laps=(1.1, 2.0), noise=0.0, random_state=15)
     # only wraps the generator made as asked (a few chains coil up past their laps)
     d_ok, t_ok = d.laps < 2.4, t.laps < 2.4
     known = d_ok & (d.target != "triangle")
@@ -245,10 +246,10 @@ def test_one_fit_gives_the_models_of_every_rate(monkeypatch):
 
 
 def test_requested_false_rejection_rate_is_kept(monkeypatch):
-    """Measured on 300 training wraps: 3.75 % of 400 new wraps rejected at 2 % asked,
-    24.5 % at 20 %."""
-    d = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.02, random_state=16)
-    t = synthetic_tentacle(400, 32, laps=(1.1, 2.0), noise=0.02, random_state=17)
+    """Measured on 200 training wraps: 2.3 % of 300 new wraps rejected at 2 % asked,
+    15.7 % at 20 %."""
+    d = synthetic_tentacle(200, 32, laps=(1.1, 2.0), noise=0.02, random_state=16)
+    t = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.02, random_state=17)
     ok = np.isfinite(t.data).all(axis=1) & t.complete
     models = _fits_at_rates(monkeypatch, d.data, d.target, (0.02, 0.2))
     rejected = {rate: np.mean(m.predict(t.data[ok]) == "unknown") for rate, m in models.items()}
