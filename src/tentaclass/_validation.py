@@ -228,6 +228,8 @@ def _row_lengths(x: object) -> str | None:
     Compares the lengths of all the rows at one depth before going deeper; a
     row below the first level is named by its indices, ``[1, 0]``.
     """
+    if isinstance(x, np.ndarray) and x.dtype != object:
+        return None  # rectangular by construction: no walk over its elements
     level: list[tuple[tuple[int, ...], Any]] = [((), x)]
     while True:
         sizes = [
