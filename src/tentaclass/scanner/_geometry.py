@@ -1092,16 +1092,6 @@ def defect_groups(
 
 
 @nb.njit(**_OPTS)
-def _angle_between(tip1x, tip1y, tailx, taily, tip2x, tip2y):
-    a1 = np.arctan2(tip1y - taily, tip1x - tailx)
-    a2 = np.arctan2(tip2y - taily, tip2x - tailx)
-    d = a2 - a1 if a1 < a2 else a1 - a2
-    if d > np.pi:
-        d = 2 * np.pi - d
-    return d
-
-
-@nb.njit(**_OPTS)
 def _obtuse(x0, y0, x1, y1, x2, y2):
     """Whether the angle at ``(x1, y1)`` is obtuse."""
     return (x0 - x1) * (x2 - x1) + (y0 - y1) * (y2 - y1) < 0
@@ -1117,6 +1107,20 @@ def bounding_circle(px, py):
     those :func:`shapely.minimum_bounding_circle` and
     :func:`shapely.minimum_bounding_radius` give for the same ring. Returns
     ``(cx, cy, radius)``.
+    """
+    scratch = np.empty((2, px.shape[0]))
+    return _bounding_circle_into(px, py, scratch[0], scratch[1])
+
+
+@nb.njit(**_OPTS)
+def _bounding_circle_into(px, py, to_p, to_q):
+    """:func:`bounding_circle` with scratch ``to_p``, ``to_q`` (as long as the ring each).
+
+    Each step looks for the vertex R that sees P and Q under the smallest
+    angle, from the directions of P and of Q seen from every vertex
+    (GEOS's ``angleBetween``: two ``atan2``); a step moves only P or only Q,
+    so the directions of the other are kept from the step before (the same
+    numbers, half the ``atan2`` calls).
     """
     n = px.shape[0]
     if n == 1:
@@ -1138,13 +1142,25 @@ def bounding_circle(px, py):
         s = dy / np.sqrt(dx * dx + dy * dy)
         if s < best:
             best, q = s, i
+    new_p = True
+    new_q = True
     for _ in range(n):
+        # the directions from each vertex to P and to Q, where they changed
+        if new_p:
+            for i in range(n):
+                to_p[i] = np.arctan2(py[p] - py[i], px[p] - px[i])
+        if new_q:
+            for i in range(n):
+                to_q[i] = np.arctan2(py[q] - py[i], px[q] - px[i])
         r = -1
         best = np.finfo(np.float64).max
         for i in range(n):
             if (px[i] == px[p] and py[i] == py[p]) or (px[i] == px[q] and py[i] == py[q]):
                 continue
-            ang = _angle_between(px[p], py[p], px[i], py[i], px[q], py[q])
+            a1, a2 = to_p[i], to_q[i]
+            ang = a2 - a1 if a1 < a2 else a1 - a2
+            if ang > np.pi:
+                ang = 2 * np.pi - ang
             if ang < best:
                 best, r = ang, i
         if _obtuse(px[p], py[p], px[r], py[r], px[q], py[q]):
@@ -1153,9 +1169,11 @@ def bounding_circle(px, py):
             return cx, cy, np.sqrt(dx * dx + dy * dy)
         if _obtuse(px[r], py[r], px[p], py[p], px[q], py[q]):
             p = r
+            new_p, new_q = True, False
             continue
         if _obtuse(px[r], py[r], px[q], py[q], px[p], py[p]):
             q = r
+            new_p, new_q = False, True
             continue
         # the circumcentre of P, Q, R
         ccx, ccy = px[r], py[r]
@@ -1182,10 +1200,20 @@ def bounding_radii(coords, ring_starts):
     """:func:`bounding_radius` of each ring stored one after the other (not closed)."""
     n = ring_starts.shape[0] - 1
     out = np.empty(n)
+    scratch = _ring_scratch(ring_starts)
     for i in range(n):
         a, b = ring_starts[i], ring_starts[i + 1]
-        out[i] = bounding_radius(coords[a:b, 0], coords[a:b, 1])
+        out[i] = _bounding_circle_into(coords[a:b, 0], coords[a:b, 1], scratch[0], scratch[1])[2]
     return out
+
+
+@nb.njit(**_OPTS)
+def _ring_scratch(ring_starts):
+    """Scratch ``(2, m)`` for :func:`_bounding_circle_into` of the longest ring of a batch."""
+    longest = 1
+    for i in range(ring_starts.shape[0] - 1):
+        longest = max(longest, ring_starts[i + 1] - ring_starts[i])
+    return np.empty((2, longest))
 
 
 @nb.njit(**_OPTS)
@@ -1235,6 +1263,22 @@ def _power_of_two(peak):
 
 
 @nb.njit(**_OPTS)
+def _inverse(scale):
+    """``1 / scale`` of a power of two, exact; 0 where it would overflow."""
+    return 1.0 / scale if scale >= 2.0**-1022 else 0.0
+
+
+@nb.njit(**_OPTS)
+def _over(x, scale, inv):
+    """``x / scale`` for a power of two ``scale`` and ``inv = _inverse(scale)``.
+
+    A product by the exact inverse: the same correctly rounded number as the
+    quotient, for a fraction of a division's cost.
+    """
+    return x * inv if inv != 0.0 else x / scale
+
+
+@nb.njit(**_OPTS)
 def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
     """Operands of the turning angles of a walk of ``n_points`` equal chords around a ring.
 
@@ -1252,11 +1296,12 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
     for j in range(m):
         peak = max(peak, abs(ring[j, 0]), abs(ring[j, 1]))
     scale = _power_of_two(peak)
+    inv = _inverse(scale)
     px = work[0]
     py = work[1]
     for j in range(m):
-        px[j] = ring[j, 0] / scale
-        py[j] = ring[j, 1] / scale
+        px[j] = _over(ring[j, 0], scale, inv)
+        py[j] = _over(ring[j, 1], scale, inv)
     px[m], py[m] = px[0], py[0]
     s = work[2]
     s[0] = 0.0
@@ -1281,9 +1326,10 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
         walk[k, 1] = (py[j] + w * (py[j + 1] - py[j])) * scale
         peak = max(peak, abs(walk[k, 0]), abs(walk[k, 1]))
     scale = _power_of_two(peak)
+    inv = _inverse(scale)
     for k in range(n_points):
-        walk[k, 0] /= scale
-        walk[k, 1] /= scale
+        walk[k, 0] = _over(walk[k, 0], scale, inv)
+        walk[k, 1] = _over(walk[k, 1], scale, inv)
     ok = True
     for k in range(n_points):
         k0 = k - 1 if k > 0 else n_points - 1
@@ -1702,11 +1748,12 @@ def hull_measures(coords, starts):
     area = np.empty(n)
     length = np.empty(n)
     radius = np.empty(n)
+    scratch = _ring_scratch(starts)
     for i in range(n):
         ring = coords[starts[i] : starts[i + 1]]
         area[i] = abs(_ring_area_signed(ring))
         length[i] = _ring_length(ring)
-        radius[i] = bounding_radius(ring[:-1, 0], ring[:-1, 1])
+        radius[i] = _bounding_circle_into(ring[:-1, 0], ring[:-1, 1], scratch[0], scratch[1])[2]
     return area, length, radius
 
 
