@@ -875,6 +875,55 @@ def _edge_pixels(f, ys, xs):
 
 
 @nb.njit(**_OPTS)
+def _near_material(f, r, c):
+    """1 if pixel ``(r, c)`` (not in ``f``) has a 4-neighbour in ``f``, 2 a diagonal one, else 3."""
+    h, w = f.shape
+    d2 = 3
+    for dr in (-1, 0, 1):
+        rr = r + dr
+        if 0 <= rr < h:
+            for dc in (-1, 0, 1):
+                cc = c + dc
+                if 0 <= cc < w and f[rr, cc]:
+                    if dr == 0 or dc == 0:
+                        return 1
+                    d2 = 2
+    return d2
+
+
+@nb.njit(**_OPTS)
+def _shallow(missing, f, lo0, lo1):
+    """A bound on the depth of every group of ``missing`` pixels: 1 or sqrt(2), else inf.
+
+    A missing pixel (not in ``f``, the filled mask, whose top-left pixel is at
+    ``(-lo0, -lo1)`` on the canvas) with a 4-neighbour in ``f`` is at squared
+    distance 1 from ``f``'s edge (that neighbour is an edge pixel); one with
+    only a diagonal neighbour in ``f`` at 2 (the neighbour's 4-neighbours
+    next to it are not in ``f``). When every missing pixel is one of these,
+    no group reaches deeper than the root of the largest: the same number
+    the depth pass would give it.
+    """
+    h, w = f.shape
+    ch, cw = missing.shape
+    worst = 1
+    for y in range(ch):
+        for x in range(cw):
+            if not missing[y, x]:
+                continue
+            r, c = y + lo0, x + lo1
+            d2 = 3
+            for dr in (-1, 0, 1):
+                for dc in (-1, 0, 1):
+                    rr, cc = r + dr, c + dc
+                    if 0 <= rr < h and 0 <= cc < w and f[rr, cc]:
+                        d2 = min(d2, 1 if dr == 0 or dc == 0 else 2)
+            if d2 == 3:
+                return np.inf
+            worst = max(worst, d2)
+    return np.sqrt(float(worst))
+
+
+@nb.njit(**_OPTS)
 def defect_groups(
     flat, filled, starts, heights, widths, kind, lo, canvas, frame, rings, ring_starts, verts,
     vert_lo, vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
@@ -1004,6 +1053,8 @@ def defect_groups(
                 smallest = min_burr_area
             if found[group] == 0 or found[group] < smallest:  # no group can be large enough
                 continue
+            if group == 1 and _shallow(missing, f, lo0, lo1) < limits[i, 1]:
+                continue  # no group can be deep enough
             n_groups = _label_runs_into(region, group != 0, lab_buf, stack, rr, cc, gs)[0]
             for q in range(n_groups):
                 a, b = gs[q], gs[q + 1]
@@ -1022,6 +1073,11 @@ def defect_groups(
                         n_edge = _edge_pixels(f, edge_y, edge_x)[2]
                     deepest = 0
                     for p in range(a, b):
+                        # a pixel next to the material is at 1 or 2 (see _shallow)
+                        best = _near_material(f, rr[p] + lo0, cc[p] + lo1)
+                        if best <= 2:
+                            deepest = max(deepest, best)
+                            continue
                         best = -1
                         for e in range(n_edge):
                             dy = rr[p] - (edge_y[e] - lo0)
@@ -1279,7 +1335,7 @@ def _over(x, scale, inv):
 
 
 @nb.njit(**_OPTS)
-def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
+def _ring_chord_turns(ring, steps, walk, cross, dot, work):
     """Operands of the turning angles of a walk of ``n_points`` equal chords around a ring.
 
     The ring has no repeated first vertex (it is closed implicitly). The walk
@@ -1288,9 +1344,11 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
     dot)``; this writes ``cross`` and ``dot`` (``n_points`` each) with the
     same arithmetic, and returns False where two consecutive points of the
     walk coincide (or the ring has no perimeter), where those functions raise.
+    ``steps`` holds ``k / n_points`` for each point ``k`` of the walk;
     ``walk`` is scratch of shape ``(n_points, 2)``, ``work`` of shape ``(4, m + 1)``
     or more.
     """
+    n_points = steps.shape[0]
     m = ring.shape[0]
     peak = 0.0
     for j in range(m):
@@ -1316,7 +1374,7 @@ def _ring_chord_turns(ring, n_points, walk, cross, dot, work):
     j = 0
     peak = 0.0
     for k in range(n_points):
-        t = k / n_points
+        t = steps[k]
         while j < m and u[j + 1] <= t:  # searchsorted(u, t, "right") - 1, clipped
             j += 1
         j = min(j, m - 1)
@@ -1364,6 +1422,9 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
     for i in range(n):
         longest = max(longest, ring_starts[i + 1] - ring_starts[i])
     work = np.empty((4, longest + 1))
+    steps = np.empty(n_points)
+    for k in range(n_points):
+        steps[k] = k / n_points
     bad = False
     areas, perimeters, radii = hull_measures(rings, ring_starts)
     for i in range(n):
@@ -1374,7 +1435,7 @@ def hull_descriptors(rings, ring_starts, long, short, pixels, n_points):
         scalars[i, 2] = 4 * np.pi * area / (perimeter * perimeter)
         scalars[i, 3] = area / (np.pi * (radius * radius))
         scalars[i, 4] = 1.0 / np.sqrt(float(pixels[i]))
-        if not _ring_chord_turns(ring[:-1], n_points, walk, cross[i], dot[i], work):
+        if not _ring_chord_turns(ring[:-1], steps, walk, cross[i], dot[i], work):
             bad = True
     return scalars, cross, dot, bad
 
@@ -1496,15 +1557,17 @@ def _line_intersection(p1x, p1y, p2x, p2y, q1x, q1y, q2x, q2y):
 
 
 @nb.njit(**_OPTS)
-def _oriented_distance(ax, ay, bx, by, px, py, orient):
-    """GEOS's LineSegment::distancePerpendicularOriented (absolute for ``orient`` 0)."""
+def _oriented_distance(ax, ay, bx, by, len2, length, px, py, orient):
+    """GEOS's LineSegment::distancePerpendicularOriented (absolute for ``orient`` 0).
+
+    ``len2`` is the segment's squared length ``(bx - ax)**2 + (by - ay)**2``
+    and ``length`` its root, as GEOS computes them for each point.
+    """
     if ax == bx and ay == by:
         dx, dy = ax - px, ay - py
         return np.sqrt(dx * dx + dy * dy)
-    s = ((ay - py) * (bx - ax) - (ax - px) * (by - ay)) / (
-        (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
-    )
-    dist = np.abs(s) * np.sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay))
+    s = ((ay - py) * (bx - ax) - (ax - px) * (by - ay)) / len2
+    dist = np.abs(s) * length
     if orient == 0:
         return dist  # abs of +-dist
     if _orientation(ax, ay, bx, by, px, py) < 0:
@@ -1523,9 +1586,17 @@ def _further_or_equal(d1, d2, orient):
 
 @nb.njit(**_OPTS)
 def _furthest_vertex(ring, ax, ay, bx, by, start, orient):
-    """GEOS's MinimumAreaRectangle::findFurthestVertex (``ring`` closed)."""
+    """GEOS's MinimumAreaRectangle::findFurthestVertex (``ring`` closed), and its distance.
+
+    The distance is the oriented one of ``orient``; its absolute value is
+    the vertex's distance from the line.
+    """
     size = ring.shape[0]
-    max_d = _oriented_distance(ax, ay, bx, by, ring[start, 0], ring[start, 1], orient)
+    len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
+    length = np.sqrt(len2)
+    max_d = _oriented_distance(
+        ax, ay, bx, by, len2, length, ring[start, 0], ring[start, 1], orient
+    )
     next_d = max_d
     max_i = start
     next_i = max_i
@@ -1537,8 +1608,10 @@ def _furthest_vertex(ring, ax, ay, bx, by, start, orient):
             next_i = 0
         if next_i == start:
             break
-        next_d = _oriented_distance(ax, ay, bx, by, ring[next_i, 0], ring[next_i, 1], orient)
-    return max_i
+        next_d = _oriented_distance(
+            ax, ay, bx, by, len2, length, ring[next_i, 0], ring[next_i, 1], orient
+        )
+    return max_i, max_d
 
 
 @nb.njit(**_OPTS)
@@ -1575,7 +1648,7 @@ def min_area_rectangle(ring, out):
     for i in range(size - 1):
         b0x, b0y = ring[i, 0], ring[i, 1]
         b1x, b1y = ring[i + 1, 0], ring[i + 1, 1]
-        diam = _furthest_vertex(ring, b0x, b0y, b1x, b1y, diam, 0)
+        diam = _furthest_vertex(ring, b0x, b0y, b1x, b1y, diam, 0)[0]
         dpx, dpy = ring[diam, 0], ring[diam, 1]
         # LineSegment::project of the diameter point on the base
         if (dpx == b0x and dpy == b0y) or (dpx == b1x and dpy == b1y):
@@ -1585,12 +1658,13 @@ def min_area_rectangle(ring, out):
             r = ((dpx - b0x) * dx + (dpy - b0y) * dy) / (dx * dx + dy * dy)
             bpx = b0x + r * (b1x - b0x)
             bpy = b0y + r * (b1y - b0y)
-        left = _furthest_vertex(ring, bpx, bpy, dpx, dpy, left, 1)
+        left, to_left = _furthest_vertex(ring, bpx, bpy, dpx, dpy, left, 1)
         if i == 0:
             right = diam
-        right = _furthest_vertex(ring, bpx, bpy, dpx, dpy, right, -1)
-        width = abs(_oriented_distance(bpx, bpy, dpx, dpy, ring[left, 0], ring[left, 1], 0))
-        width += abs(_oriented_distance(bpx, bpy, dpx, dpy, ring[right, 0], ring[right, 1], 0))
+        right, to_right = _furthest_vertex(ring, bpx, bpy, dpx, dpy, right, -1)
+        # the side points' distances from the line, as the search found them
+        width = abs(to_left)
+        width += abs(to_right)
         lx, ly = bpx - dpx, bpy - dpy
         area = np.sqrt(lx * lx + ly * ly) * width
         if area < min_area:
