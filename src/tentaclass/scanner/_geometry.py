@@ -837,14 +837,16 @@ def _signed_distance(kind, ring, circle, lo0, lo1, h, w, sd, c, nx, ny):
             e += 1
     for i in range(h):
         row = float(i) + lo0
+        line = sd[i]
         for j in range(w):
-            sd[i, j] = np.inf
+            line[j] = np.inf
         for k in range(e):
+            ck, nk = c[k], nx[k]  # (locals: the row is written in between)
             t = ny[k] * row
             for j in range(w):
-                v = (c[k] - nx[k] * (float(j) + lo1)) - t
-                if v < sd[i, j]:
-                    sd[i, j] = v
+                v = (ck - nk * (float(j) + lo1)) - t
+                if v < line[j]:
+                    line[j] = v
     return sd
 
 
@@ -981,10 +983,13 @@ def defect_groups(
         # holes (in the mask), missing and extra pixels (on the canvas), and how many
         holes = holes_buf[: h * w].reshape((h, w))
         found[:] = 0
+        n_holes = 0
         for r in range(h):
             for c in range(w):
-                holes[r, c] = f[r, c] and not m[r, c]
-                found[0] += holes[r, c]
+                hole = f[r, c] and not m[r, c]
+                holes[r, c] = hole
+                n_holes += hole
+        found[0] = n_holes
         missing = missing_buf[:0].reshape((0, 0))
         extra = extra_buf[:0].reshape((0, 0))
         if kind[i] != 0:
@@ -1010,7 +1015,6 @@ def defect_groups(
                             )
             missing = missing_buf[: ch * cw].reshape((ch, cw))
             extra = extra_buf[: ch * cw].reshape((ch, cw))
-            extra[:] = False
             n_missing = 0
             n_extra = 0
             # the canvas columns that fall in the mask
@@ -1018,19 +1022,29 @@ def defect_groups(
             x1 = max(min(w - lo[i, 1], cw), x0)
             for y in range(ch):
                 r = y + lo[i, 0]
-                inside = 0 <= r < h
-                for x in range(cw):
+                # in the mask's rows, its columns: [x0, x1)
+                xa, xb = (x0, x1) if 0 <= r < h else (cw, cw)
+                for x in range(xa):
                     hit = sd[y, x] >= margin
-                    if inside and x0 <= x < x1:
-                        c = x + lo[i, 1]
-                        hit = hit and not f[r, c]
-                        out = m[r, c] and sd[y, x] < outer
-                        if out:
-                            if kind[i] == 2:
-                                sd[y, x] = _circle_distance(radius, circles[i], float(r), float(c))
-                            extra[y, x] = True
-                            n_extra += 1
                     missing[y, x] = hit
+                    extra[y, x] = False
+                    n_missing += hit
+                for x in range(xa, xb):
+                    c = x + lo[i, 1]
+                    v = sd[y, x]
+                    hit = v >= margin and not f[r, c]
+                    missing[y, x] = hit
+                    n_missing += hit
+                    out = m[r, c] and v < outer
+                    extra[y, x] = out
+                    if out:
+                        if kind[i] == 2:
+                            sd[y, x] = _circle_distance(radius, circles[i], float(r), float(c))
+                        n_extra += 1
+                for x in range(xb, cw):
+                    hit = sd[y, x] >= margin
+                    missing[y, x] = hit
+                    extra[y, x] = False
                     n_missing += hit
             found[1] = n_missing
             found[2] = n_extra
