@@ -221,8 +221,8 @@ _KINDS = {
 def defect_arrays(
     batch: MaskBatch,
     object_area: np.ndarray,
-    width: Sequence[float],
-    length: Sequence[float],
+    width: Sequence[float] | np.ndarray,
+    length: Sequence[float] | np.ndarray,
     labels: Sequence[str | None],
     settings: DefectSettings,
     extents: np.ndarray,

@@ -221,9 +221,9 @@ class Measures(NamedTuple):
     rings: np.ndarray
     ring_starts: np.ndarray
     corners: np.ndarray
-    length: list[float]
-    width: list[float]
-    orientation: list[float]
+    length: np.ndarray
+    width: np.ndarray
+    orientation: np.ndarray
     centres: np.ndarray
     centre_starts: np.ndarray
 
@@ -238,7 +238,8 @@ class Measures(NamedTuple):
         new = object.__new__
         for mask, f, core, area, hull, rect, long, short, angle in zip(
             b.views(b.mask), b.views(b.filled), b.views(b.core), self.area.tolist(), hulls,
-            rects, self.length, self.width, self.orientation, strict=True,
+            rects, self.length.tolist(), self.width.tolist(), self.orientation.tolist(),
+            strict=True,
         ):  # fmt: skip
             g = new(Geometry)  # Geometry(mask, f, ...) without its frozen __setattr__ per field
             g.__dict__.update(
@@ -268,9 +269,9 @@ def measure_batch_arrays(batch: MaskBatch) -> Measures:
         coords,
         ring_starts,
         corners,
-        rounded(long, 9).tolist(),
-        rounded(short, 9).tolist(),
-        rounded(angles, 6).tolist(),
+        rounded(long, 9),
+        rounded(short, 9),
+        rounded(angles, 6),
         centres,
         centre_starts,
     )
@@ -379,8 +380,8 @@ def _turning_fourier(q: np.ndarray, n_harmonics: int) -> np.ndarray:
 def hull_features(
     rings: np.ndarray,
     ring_starts: np.ndarray,
-    length: Sequence[float],
-    width: Sequence[float],
+    length: Sequence[float] | np.ndarray,
+    width: Sequence[float] | np.ndarray,
     pixels: np.ndarray,
     n_points: int,
     n_harmonics: int,

@@ -276,7 +276,7 @@ def inspect_masks(
     new = object.__new__
     columns = (
         labels, rounded(confidence, 6).tolist(), boxes, m.area.tolist(), centroids,
-        m.orientation, m.length, m.width, fields,
+        m.orientation.tolist(), m.length.tolist(), m.width.tolist(), fields,
     )  # fmt: skip
     if scanned is not None:  # the scanner's records too, in the same pass
         i = scanned[0]
