@@ -1083,8 +1083,6 @@ def defect_groups(
                     # the nearest material pixel is always one on its edge
                     # (the largest of the pixels' smallest squared distances, then its
                     # root: a pixel stops once it cannot beat the largest so far)
-                    if n_edge < 0:
-                        n_edge = _edge_pixels(f, edge_y, edge_x)[2]
                     deepest = 0
                     for p in range(a, b):
                         # a pixel next to the material is at 1 or 2 (see _shallow)
@@ -1092,6 +1090,8 @@ def defect_groups(
                         if best <= 2:
                             deepest = max(deepest, best)
                             continue
+                        if n_edge < 0:
+                            n_edge = _edge_pixels(f, edge_y, edge_x)[2]
                         best = -1
                         for e in range(n_edge):
                             dy = rr[p] - (edge_y[e] - lo0)
@@ -1102,7 +1102,8 @@ def defect_groups(
                                 if best <= deepest:
                                     break
                         deepest = max(deepest, best)
-                    depth = np.sqrt(float(deepest)) if n_edge > 0 else np.inf
+                    # (edges not listed: every pixel was next to the material, so it has some)
+                    depth = np.sqrt(float(deepest)) if n_edge != 0 else np.inf
                 elif group == 2:
                     depth = np.inf
                     for p in range(a, b):
@@ -1216,12 +1217,15 @@ def _bounding_circle_into(px, py, to_p, to_q):
     new_q = True
     for _ in range(n):
         # the directions from each vertex to P and to Q, where they changed
+        # (not from P itself, nor from Q: those are never candidates while they stay)
         if new_p:
             for i in range(n):
-                to_p[i] = np.arctan2(py[p] - py[i], px[p] - px[i])
+                if px[i] != px[p] or py[i] != py[p]:
+                    to_p[i] = np.arctan2(py[p] - py[i], px[p] - px[i])
         if new_q:
             for i in range(n):
-                to_q[i] = np.arctan2(py[q] - py[i], px[q] - px[i])
+                if px[i] != px[q] or py[i] != py[q]:
+                    to_q[i] = np.arctan2(py[q] - py[i], px[q] - px[i])
         r = -1
         best = np.finfo(np.float64).max
         for i in range(n):
