@@ -196,7 +196,11 @@ class LineScanner:
         self._pend = np.zeros((0, seg.N_OUT_FIELDS), dtype=np.int64)
         self._pend_runs = np.zeros((0, 3), dtype=np.int64)
         self._pend_oldest = np.iinfo(np.int64).max  # the smallest last row pending
-        self._pools = seg.new_pools(self.width, 256, 4096)
+        # room for the runs of two full rows in labels and four in runs: the kernel
+        # needs a row's worth free before each row, and would otherwise stop to
+        # grow the pools several times at the start of a wide belt
+        per_row = self.width // 2 + 1
+        self._pools = seg.new_pools(self.width, max(256, 2 * per_row), max(4096, 4 * per_row))
         self._bg = np.zeros(self.width, dtype=np.float64)
         self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
         self._done_rows = 0  # rows through the kernel
