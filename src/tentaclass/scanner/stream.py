@@ -510,11 +510,13 @@ class LineScanner:
             dark = False
         # C order: the kernel is compiled for contiguous rows of each pixel type only
         arr = np.ascontiguousarray(arr)
+        words = _words(arr) if mode == 0 else _NO_WORDS
         start, n = 0, arr.shape[0]
+        kept: list[tuple[np.ndarray, np.ndarray]] = []  # the objects output, added at the end
         while True:
             rows = arr[start:] if start else arr
             done = seg.scan_rows(
-                rows, _words(rows) if mode == 0 else _NO_WORDS, self._done_rows, mode, dark,
+                rows, words[start:] if start else words, self._done_rows, mode, dark,
                 level, contrast, rate, self._bg, self.max_height, self.min_area, final,
                 p["st"], p["prev"], p["cur"], p["labs"], p["runs"], p["out"], p["out_runs"],
                 p["done"],
@@ -523,7 +525,8 @@ class LineScanner:
             start += done
             st = p["st"]
             if st[seg.S_NOUT]:
-                self._keep(int(st[seg.S_NOUT]), int(st[seg.S_NOUT_RUNS]))
+                n_out, n_runs = int(st[seg.S_NOUT]), int(st[seg.S_NOUT_RUNS])
+                kept.append((p["out"][:n_out].copy(), p["out_runs"][:n_runs].copy()))
                 st[seg.S_NOUT] = 0
                 st[seg.S_NOUT_RUNS] = 0
             elif not final and start < n:
@@ -531,19 +534,21 @@ class LineScanner:
                 p = self._pools
             if final or start >= n:
                 break
+        if kept:
+            self._keep(kept)
         return self._emit(final, self._hold) if self._pend.shape[0] else []
 
-    def _keep(self, n_out: int, n_runs: int) -> None:
-        """Add the objects the kernel output to those pending."""
-        p = self._pools
-        new = p["out"][:n_out].copy()
-        new[:, 5:7] += self._pend_runs.shape[0]
-        self._pend_oldest = min(self._pend_oldest, int(new[:, 2].min()))
-        if self._pend.shape[0]:
-            self._pend = np.concatenate([self._pend, new])
-            self._pend_runs = np.concatenate([self._pend_runs, p["out_runs"][:n_runs]])
-        else:
-            self._pend, self._pend_runs = new, p["out_runs"][:n_runs].copy()
+    def _keep(self, kept: list[tuple[np.ndarray, np.ndarray]]) -> None:
+        """Add the objects the kernel output (rows and their runs, per call) to those pending."""
+        outs = [self._pend]
+        at = self._pend_runs.shape[0]
+        for new, runs in kept:
+            new[:, 5:7] += at  # the runs' places among all pending runs
+            at += runs.shape[0]
+            outs.append(new)
+        self._pend = np.concatenate(outs)
+        self._pend_runs = np.concatenate([self._pend_runs, *(runs for _, runs in kept)])
+        self._pend_oldest = min(self._pend_oldest, int(self._pend[:, 2].min()))
 
     def _emit(self, final: bool, hold: int) -> list[ScannedObject]:
         """Records of the pending objects that may go: all at the end of the stream.
