@@ -11,6 +11,7 @@ from tentaclass.scanner._geometry import (
     fill_holes,
     hull_ring,
     max_distance_outside,
+    reaches_beyond,
     row_extremes,
 )
 from tentaclass.scanner.descriptors import pixel_hull
@@ -108,6 +109,18 @@ def test_distance_outside_a_convex_polygon_is_shapelys():
     ref = shapely.distance(poly, shapely.points(np.stack([px, py], axis=1))).max()
     assert max_distance_outside(ring, px, py) == pytest.approx(ref, abs=1e-12)
     assert max_distance_outside(ring, px[:0], py[:0]) == 0.0
+
+
+def test_reaches_beyond_is_the_largest_distance_outside_against_a_limit():
+    rng = np.random.default_rng(2)
+    ring = hull_ring(rng.normal(size=20), rng.normal(size=20))
+    px, py = rng.normal(0, 2, 40), rng.normal(0, 2, 40)
+    worst = max_distance_outside(ring, px, py)
+    # each point's own distance as a limit: ties at the limit do not reach beyond
+    limits = [max_distance_outside(ring, px[k : k + 1], py[k : k + 1]) for k in range(40)]
+    for limit in [*limits, worst, np.nextafter(worst, 0), 0.0, 1.0, 10.0]:
+        assert reaches_beyond(ring, px, py, limit) == (worst > limit)
+    assert not reaches_beyond(ring, px[:0], py[:0], 0.0)
 
 
 def test_opening_and_mask_hull_are_scipys_and_the_point_hulls():

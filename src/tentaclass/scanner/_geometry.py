@@ -9,7 +9,7 @@ overhead than the work itself. These kernels do that work directly:
   then the leftmost; collinear points dropped), so that shapely's results
   and everything measured on the ring stay the same;
 - :func:`max_distance_outside`: the largest distance of points from a convex
-  polygon (0 inside);
+  polygon (0 inside), and :func:`reaches_beyond`: whether it exceeds a limit;
 - :func:`fill_holes`: :func:`scipy.ndimage.binary_fill_holes` (background
   4-connected to the border stays background);
 - :func:`mask_hull`: :func:`hull_ring` of a mask's pixel squares or centres;
@@ -136,6 +136,41 @@ def max_distance_outside(ring, px, py):
         if not inside and best > worst:
             worst = best
     return worst
+
+
+@nb.njit(**_OPTS)
+def reaches_beyond(ring, px, py, limit):
+    """Whether :func:`max_distance_outside` of the points exceeds ``limit`` (>= 0).
+
+    The same distances, in the same order, but a point inside the polygon
+    is not measured, a point stops once some edge is within ``limit``, and
+    the first point beyond it answers.
+    """
+    n = ring.shape[0] - 1
+    for p in range(px.shape[0]):
+        x, y = px[p], py[p]
+        inside = True
+        for i in range(n):
+            if _cross(ring[i, 0], ring[i, 1], ring[i + 1, 0], ring[i + 1, 1], x, y) > 0:
+                inside = False
+                break
+        if inside:
+            continue
+        best = np.inf
+        for i in range(n):
+            ax, ay = ring[i, 0], ring[i, 1]
+            bx, by = ring[i + 1, 0], ring[i + 1, 1]
+            dx, dy = bx - ax, by - ay
+            ll = dx * dx + dy * dy
+            t = 0.0 if ll == 0 else ((x - ax) * dx + (y - ay) * dy) / ll
+            t = min(1.0, max(0.0, t))
+            ex, ey = ax + t * dx - x, ay + t * dy - y
+            best = min(best, np.sqrt(ex * ex + ey * ey))
+            if best <= limit:
+                break
+        if best > limit:
+            return True
+    return False
 
 
 @nb.njit(**_OPTS)
@@ -1317,7 +1352,7 @@ def open_burrs(filled, starts, heights, widths, candidates, coords, ring_starts)
             continue
         opened_ring = mask_hull(opened, True)
         ring = coords[ring_starts[i] : ring_starts[i + 1]]
-        if max_distance_outside(opened_ring, ring[:-1, 0], ring[:-1, 1]) > 2.0:
+        if reaches_beyond(opened_ring, ring[:-1, 0], ring[:-1, 1], 2.0):
             if not changed.any():
                 core = filled.copy()
             changed[i] = True
