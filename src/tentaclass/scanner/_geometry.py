@@ -374,7 +374,7 @@ def label_runs(region, eight):
     """
     h, w = region.shape
     size = h * w
-    lab = np.empty(size, dtype=np.int64)
+    lab = np.empty(5 * size, dtype=np.int64)
     stack = np.empty(size, dtype=np.int64)
     rows = np.empty(size, dtype=np.int64)
     cols = np.empty(size, dtype=np.int64)
@@ -384,55 +384,83 @@ def label_runs(region, eight):
 
 
 @nb.njit(**_OPTS)
-def _label_runs_into(region, eight, lab_flat, stack, rows, cols, starts):
-    """:func:`label_runs` into scratch of ``region.size`` (``starts``: one more) each.
+def _root(parent, k):
+    """The root of run ``k`` (path halving)."""
+    while parent[k] != k:
+        parent[k] = parent[parent[k]]
+        k = parent[k]
+    return k
 
-    Returns the number of groups and of their pixels: the groups' pixels are
-    ``rows[:total]``, ``cols[:total]``, their starts ``starts[:n + 1]``.
+
+@nb.njit(**_OPTS)
+def _label_runs_into(region, eight, work, pos, rows, cols, starts):
+    """:func:`label_runs` into scratch: ``work`` of ``5 * region.size``, the others of
+    ``region.size`` (``starts``: one more).
+
+    The runs of each row are joined to the runs they touch in the row above
+    (a union-find whose root is a group's first run, so groups come in the
+    raster order of their first pixel); each group's pixels are then listed
+    run after run. Returns the number of groups and of their pixels: the
+    groups' pixels are ``rows[:total]``, ``cols[:total]``, their starts
+    ``starts[:n + 1]``.
     """
     h, w = region.shape
-    lab = lab_flat[: h * w].reshape((h, w))
-    lab[:] = 0
-    n = 0
-    for r0 in range(h):
-        for c0 in range(w):
-            if not region[r0, c0] or lab[r0, c0]:
+    most = h * ((w + 1) // 2)  # runs at most
+    first = work[:most]  # each run's first column, end column, row, root and group
+    end = work[most : 2 * most]
+    row_of = work[2 * most : 3 * most]
+    parent = work[3 * most : 4 * most]
+    group = work[4 * most : 5 * most]
+    touch = 0 if eight else 1  # runs touch when one starts before the other ends (+ 1)
+    nr = 0
+    above = 0  # the runs of the row above: [above, here)
+    for r in range(h):
+        here = nr
+        c = 0
+        while c < w:
+            if not region[r, c]:
+                c += 1
                 continue
+            a = c
+            while c < w and region[r, c]:
+                c += 1
+            first[nr], end[nr], row_of[nr], parent[nr] = a, c, r, nr
+            nr += 1
+        i, j = above, here
+        while i < here and j < nr:
+            if first[i] + touch <= end[j] and first[j] + touch <= end[i]:
+                ri, rj = _root(parent, i), _root(parent, j)
+                if ri < rj:
+                    parent[rj] = ri
+                elif rj < ri:
+                    parent[ri] = rj
+            if end[i] < end[j]:
+                i += 1
+            else:
+                j += 1
+        above = here
+    n = 0
+    for k in range(nr):
+        root = _root(parent, k)
+        if root == k:
+            group[k] = n
             n += 1
-            lab[r0, c0] = n
-            rows[0] = r0  # (rows and cols: the stack, until the pixels are listed)
-            cols[0] = c0
-            top = 1
-            while top:
-                top -= 1
-                r, c = rows[top], cols[top]
-                for dr in (-1, 0, 1):
-                    for dc in (-1, 0, 1):
-                        if (dr == 0 and dc == 0) or (not eight and dr != 0 and dc != 0):
-                            continue
-                        rr, cc = r + dr, c + dc
-                        if 0 <= rr < h and 0 <= cc < w and region[rr, cc] and not lab[rr, cc]:
-                            lab[rr, cc] = n
-                            rows[top] = rr
-                            cols[top] = cc
-                            top += 1
+        else:
+            group[k] = group[root]
     starts[: n + 1] = 0
-    for r in range(h):
-        for c in range(w):
-            if lab[r, c]:
-                starts[lab[r, c]] += 1
-    for k in range(n):
-        starts[k + 1] += starts[k]
-    pos = stack  # the next place of each group's pixels
-    for k in range(n):
-        pos[k] = starts[k]
-    for r in range(h):
-        for c in range(w):
-            k = lab[r, c]
-            if k:
-                rows[pos[k - 1]] = r
-                cols[pos[k - 1]] = c
-                pos[k - 1] += 1
+    for k in range(nr):
+        starts[group[k] + 1] += end[k] - first[k]
+    for g in range(n):
+        starts[g + 1] += starts[g]
+        pos[g] = starts[g]
+    for k in range(nr):
+        g = group[k]
+        at = pos[g]
+        for c in range(first[k], end[k]):
+            rows[at] = row_of[k]
+            cols[at] = c
+            at += 1
+        pos[g] = at
     return n, starts[n]
 
 
@@ -999,7 +1027,7 @@ def defect_groups(
     missing_buf = np.empty(big, dtype=np.bool_)
     extra_buf = np.empty(big, dtype=np.bool_)
     sd_buf = np.empty(big)
-    lab_buf = np.empty(big, dtype=np.int64)
+    lab_buf = np.empty(5 * big, dtype=np.int64)
     stack = np.empty(big, dtype=np.int64)
     rr = np.empty(big, dtype=np.int64)
     cc = np.empty(big, dtype=np.int64)
