@@ -394,8 +394,7 @@ def _root(parent, k):
 
 @nb.njit(**_OPTS)
 def _label_runs_into(region, eight, work, pos, rows, cols, starts):
-    """:func:`label_runs` into scratch: ``work`` of ``5 * region.size``, the others of
-    ``region.size`` (``starts``: one more).
+    """:func:`label_runs` into scratch (``work``: 5 per pixel, the others 1, ``starts`` 1 more).
 
     The runs of each row are joined to the runs they touch in the row above
     (a union-find whose root is a group's first run, so groups come in the
