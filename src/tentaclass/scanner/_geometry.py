@@ -1674,9 +1674,7 @@ def _furthest_vertex(ring, ax, ay, bx, by, start, orient):
     size = ring.shape[0]
     len2 = (bx - ax) * (bx - ax) + (by - ay) * (by - ay)
     length = np.sqrt(len2)
-    max_d = _oriented_distance(
-        ax, ay, bx, by, len2, length, ring[start, 0], ring[start, 1], orient
-    )
+    max_d = _oriented_distance(ax, ay, bx, by, len2, length, ring[start, 0], ring[start, 1], orient)
     next_d = max_d
     max_i = start
     next_i = max_i
