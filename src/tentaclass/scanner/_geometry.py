@@ -1241,19 +1241,19 @@ def bounding_circle(px, py):
     :func:`shapely.minimum_bounding_radius` give for the same ring. Returns
     ``(cx, cy, radius)``.
     """
-    scratch = np.empty((2, px.shape[0]))
-    return _bounding_circle_into(px, py, scratch[0], scratch[1])
+    return _bounding_circle_into(px, py, np.empty(px.shape[0]))
 
 
 @nb.njit(**_OPTS)
-def _bounding_circle_into(px, py, to_p, to_q):
-    """:func:`bounding_circle` with scratch ``to_p``, ``to_q`` (as long as the ring each).
+def _bounding_circle_into(px, py, cosines):
+    """:func:`bounding_circle` with scratch ``cosines`` (as long as the ring).
 
-    Each step looks for the vertex R that sees P and Q under the smallest
-    angle, from the directions of P and of Q seen from every vertex
-    (GEOS's ``angleBetween``: two ``atan2``); a step moves only P or only Q,
-    so the directions of the other are kept from the step before (the same
-    numbers, half the ``atan2`` calls).
+    Each step looks for the first vertex R that sees P and Q under the
+    smallest angle (GEOS's ``angleBetween``: two ``atan2``), measuring that
+    angle only where it may be the smallest: a vertex whose angle's cosine
+    (from a dot product) is below the largest cosine by more than 1e-9 sees
+    P and Q under an angle larger by more than 1e-9, far beyond the rounding
+    of either computation (a few 1e-16), so it is never the one chosen.
     """
     n = px.shape[0]
     if n == 1:
@@ -1275,25 +1275,30 @@ def _bounding_circle_into(px, py, to_p, to_q):
         s = dy / np.sqrt(dx * dx + dy * dy)
         if s < best:
             best, q = s, i
-    new_p = True
-    new_q = True
     for _ in range(n):
-        # the directions from each vertex to P and to Q, where they changed
-        # (not from P itself, nor from Q: those are never candidates while they stay)
-        if new_p:
-            for i in range(n):
-                if px[i] != px[p] or py[i] != py[p]:
-                    to_p[i] = np.arctan2(py[p] - py[i], px[p] - px[i])
-        if new_q:
-            for i in range(n):
-                if px[i] != px[q] or py[i] != py[q]:
-                    to_q[i] = np.arctan2(py[q] - py[i], px[q] - px[i])
+        top = -np.inf
+        finite = True
+        for i in range(n):
+            if (px[i] == px[p] and py[i] == py[p]) or (px[i] == px[q] and py[i] == py[q]):
+                continue
+            ax, ay = px[p] - px[i], py[p] - py[i]
+            bx, by = px[q] - px[i], py[q] - py[i]
+            c = (ax * bx + ay * by) / np.sqrt((ax * ax + ay * ay) * (bx * bx + by * by))
+            cosines[i] = c
+            if not np.isfinite(c):
+                finite = False  # (coordinates too small or large: measure every vertex)
+            elif c > top:
+                top = c
+        floor = top - 1e-9 if finite else -np.inf
         r = -1
         best = np.finfo(np.float64).max
         for i in range(n):
             if (px[i] == px[p] and py[i] == py[p]) or (px[i] == px[q] and py[i] == py[q]):
                 continue
-            a1, a2 = to_p[i], to_q[i]
+            if cosines[i] < floor:
+                continue
+            a1 = np.arctan2(py[p] - py[i], px[p] - px[i])
+            a2 = np.arctan2(py[q] - py[i], px[q] - px[i])
             ang = a2 - a1 if a1 < a2 else a1 - a2
             if ang > np.pi:
                 ang = 2 * np.pi - ang
@@ -1305,11 +1310,9 @@ def _bounding_circle_into(px, py, to_p, to_q):
             return cx, cy, np.sqrt(dx * dx + dy * dy)
         if _obtuse(px[r], py[r], px[p], py[p], px[q], py[q]):
             p = r
-            new_p, new_q = True, False
             continue
         if _obtuse(px[r], py[r], px[q], py[q], px[p], py[p]):
             q = r
-            new_p, new_q = False, True
             continue
         # the circumcentre of P, Q, R
         ccx, ccy = px[r], py[r]
@@ -1339,17 +1342,17 @@ def bounding_radii(coords, ring_starts):
     scratch = _ring_scratch(ring_starts)
     for i in range(n):
         a, b = ring_starts[i], ring_starts[i + 1]
-        out[i] = _bounding_circle_into(coords[a:b, 0], coords[a:b, 1], scratch[0], scratch[1])[2]
+        out[i] = _bounding_circle_into(coords[a:b, 0], coords[a:b, 1], scratch)[2]
     return out
 
 
 @nb.njit(**_OPTS)
 def _ring_scratch(ring_starts):
-    """Scratch ``(2, m)`` for :func:`_bounding_circle_into` of the longest ring of a batch."""
+    """Scratch for :func:`_bounding_circle_into` of the longest ring of a batch."""
     longest = 1
     for i in range(ring_starts.shape[0] - 1):
         longest = max(longest, ring_starts[i + 1] - ring_starts[i])
-    return np.empty((2, longest))
+    return np.empty(longest)
 
 
 @nb.njit(**_OPTS)
@@ -1905,7 +1908,7 @@ def hull_measures(coords, starts):
         ring = coords[starts[i] : starts[i + 1]]
         area[i] = abs(_ring_area_signed(ring))
         length[i] = _ring_length(ring)
-        radius[i] = _bounding_circle_into(ring[:-1, 0], ring[:-1, 1], scratch[0], scratch[1])[2]
+        radius[i] = _bounding_circle_into(ring[:-1, 0], ring[:-1, 1], scratch)[2]
     return area, length, radius
 
 
