@@ -331,10 +331,11 @@ def _ends_hull_into(h, corners, scratch, out, k0):
     for i in range(1, k):
         if hy[i] < hy[start] or (hy[i] == hy[start] and hx[i] < hx[start]):
             start = i
+    i = start
     for j in range(k + 1):  # clockwise with x and y as they are: walk forwards
-        i = (start + j) % k
         out[k0 + j, 0] = hx[i]
         out[k0 + j, 1] = hy[i]
+        i = i + 1 if i < k - 1 else 0
     return k0 + k + 1
 
 
