@@ -957,38 +957,6 @@ def _near_material(f, r, c):
 
 
 @nb.njit(**_OPTS)
-def _shallow(missing, f, lo0, lo1):
-    """A bound on the depth of every group of ``missing`` pixels: 1 or sqrt(2), else inf.
-
-    A missing pixel (not in ``f``, the filled mask, whose top-left pixel is at
-    ``(-lo0, -lo1)`` on the canvas) with a 4-neighbour in ``f`` is at squared
-    distance 1 from ``f``'s edge (that neighbour is an edge pixel); one with
-    only a diagonal neighbour in ``f`` at 2 (the neighbour's 4-neighbours
-    next to it are not in ``f``). When every missing pixel is one of these,
-    no group reaches deeper than the root of the largest: the same number
-    the depth pass would give it.
-    """
-    h, w = f.shape
-    ch, cw = missing.shape
-    worst = 1
-    for y in range(ch):
-        for x in range(cw):
-            if not missing[y, x]:
-                continue
-            r, c = y + lo0, x + lo1
-            d2 = 3
-            for dr in (-1, 0, 1):
-                for dc in (-1, 0, 1):
-                    rr, cc = r + dr, c + dc
-                    if 0 <= rr < h and 0 <= cc < w and f[rr, cc]:
-                        d2 = min(d2, 1 if dr == 0 or dc == 0 else 2)
-            if d2 == 3:
-                return np.inf
-            worst = max(worst, d2)
-    return np.sqrt(float(worst))
-
-
-@nb.njit(**_OPTS)
 def defect_groups(
     flat, filled, starts, heights, widths, kind, lo, canvas, frame, rings, ring_starts, verts,
     vert_lo, vert_hi, circles, limits, extents, margin, min_hole_area, min_burr_area,
@@ -1130,8 +1098,6 @@ def defect_groups(
                 smallest = min_burr_area
             if found[group] == 0 or found[group] < smallest:  # no group can be large enough
                 continue
-            if group == 1 and _shallow(missing, f, lo0, lo1) < limits[i, 1]:
-                continue  # no group can be deep enough
             n_groups = _label_runs_into(region, group != 0, lab_buf, stack, rr, cc, gs)[0]
             for q in range(n_groups):
                 a, b = gs[q], gs[q + 1]
@@ -1148,7 +1114,9 @@ def defect_groups(
                     # root: a pixel stops once it cannot beat the largest so far)
                     deepest = 0
                     for p in range(a, b):
-                        # a pixel next to the material is at 1 or 2 (see _shallow)
+                        # a pixel with a 4-neighbour in f is at 1 from its edge (that
+                        # neighbour is on it), one with only a diagonal one at 2 (the
+                        # neighbour's 4-neighbours next to the pixel are not in f)
                         best = _near_material(f, rr[p] + lo0, cc[p] + lo1)
                         if best <= 2:
                             deepest = max(deepest, best)
