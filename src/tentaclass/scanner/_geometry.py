@@ -114,6 +114,19 @@ def hull_ring(x, y):
 
 
 @nb.njit(**_OPTS)
+def _edge_distance(ring, i, x, y):
+    """Distance of the point ``(x, y)`` from the segment ``ring[i]``-``ring[i + 1]``."""
+    ax, ay = ring[i, 0], ring[i, 1]
+    bx, by = ring[i + 1, 0], ring[i + 1, 1]
+    dx, dy = bx - ax, by - ay
+    ll = dx * dx + dy * dy
+    t = 0.0 if ll == 0 else ((x - ax) * dx + (y - ay) * dy) / ll
+    t = min(1.0, max(0.0, t))
+    ex, ey = ax + t * dx - x, ay + t * dy - y
+    return np.sqrt(ex * ex + ey * ey)
+
+
+@nb.njit(**_OPTS)
 def max_distance_outside(ring, px, py):
     """Largest distance of the points from the convex polygon ``ring`` (closed, clockwise)."""
     worst = 0.0
@@ -123,16 +136,9 @@ def max_distance_outside(ring, px, py):
         inside = True
         best = np.inf
         for i in range(n):
-            ax, ay = ring[i, 0], ring[i, 1]
-            bx, by = ring[i + 1, 0], ring[i + 1, 1]
-            if _cross(ax, ay, bx, by, x, y) > 0:  # left of a clockwise edge: outside
-                inside = False
-            dx, dy = bx - ax, by - ay
-            ll = dx * dx + dy * dy
-            t = 0.0 if ll == 0 else ((x - ax) * dx + (y - ay) * dy) / ll
-            t = min(1.0, max(0.0, t))
-            ex, ey = ax + t * dx - x, ay + t * dy - y
-            best = min(best, np.sqrt(ex * ex + ey * ey))
+            if _cross(ring[i, 0], ring[i, 1], ring[i + 1, 0], ring[i + 1, 1], x, y) > 0:
+                inside = False  # left of a clockwise edge: outside
+            best = min(best, _edge_distance(ring, i, x, y))
         if not inside and best > worst:
             worst = best
     return worst
@@ -158,14 +164,7 @@ def reaches_beyond(ring, px, py, limit):
             continue
         best = np.inf
         for i in range(n):
-            ax, ay = ring[i, 0], ring[i, 1]
-            bx, by = ring[i + 1, 0], ring[i + 1, 1]
-            dx, dy = bx - ax, by - ay
-            ll = dx * dx + dy * dy
-            t = 0.0 if ll == 0 else ((x - ax) * dx + (y - ay) * dy) / ll
-            t = min(1.0, max(0.0, t))
-            ex, ey = ax + t * dx - x, ay + t * dy - y
-            best = min(best, np.sqrt(ex * ex + ey * ey))
+            best = min(best, _edge_distance(ring, i, x, y))
             if best <= limit:
                 break
         if best > limit:
