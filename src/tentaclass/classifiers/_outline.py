@@ -192,7 +192,8 @@ class OutlineClassifier(BaseProbabilisticClassifier):
         self._rocket = _minirocket(int(rng.randint(2**31 - 1)))
         F = np.asarray(self._rocket.fit_transform(A[:, None, :]), dtype=np.float64)
         self._mu = F.mean(axis=0)
-        self._sd = np.where(F.std(axis=0) > 0, F.std(axis=0), 1.0)
+        sd = F.std(axis=0)
+        self._sd = np.where(sd > 0, sd, 1.0)
         F = (F - self._mu) / self._sd
         self._ridge = RidgeClassifierCV(alphas=np.logspace(-3, 3, 10)).fit(F, ya)
 

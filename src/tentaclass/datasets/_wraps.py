@@ -10,7 +10,6 @@ from __future__ import annotations
 import hashlib
 import inspect
 import json
-import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, Literal, overload
@@ -20,6 +19,7 @@ from shapely.geometry import Polygon
 from sklearn.utils import Bunch
 
 from .. import _dask
+from .._cache import cache_dir, load_npz, save_npz
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
 from .._validation import (
@@ -418,10 +418,6 @@ def _generator_digest() -> str:
 _WRAPS_VERSION = 3
 
 
-def _cache_dir() -> Path:
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "tentaclass"
-
-
 def _wrap_cache_key(folder: str | Path, params: dict) -> dict:
     """The wrap cache's key: the parameters, the folder's files and the code that made them.
 
@@ -437,7 +433,7 @@ def _wrap_cache_key(folder: str | Path, params: dict) -> dict:
 
 def _cache_path(key: dict) -> Path:
     digest = hashlib.sha256(json.dumps(key, sort_keys=True).encode()).hexdigest()[:16]
-    return _cache_dir() / f"mpeg7-wraps-{digest}.npz"
+    return cache_dir() / f"mpeg7-wraps-{digest}.npz"
 
 
 def _folder_key(folder: str | Path) -> dict:
@@ -459,7 +455,7 @@ def clear_cache() -> int:
     True
     """
     removed = 0
-    for f in _cache_dir().glob("mpeg7-wraps-*.npz"):
+    for f in cache_dir().glob("mpeg7-wraps-*.npz"):
         f.unlink(missing_ok=True)
         removed += 1
     return removed
@@ -744,9 +740,9 @@ def mpeg7_tentacle(
         params.update(laps=list(laps), offset=list(offset))
     path = _cache_path(_wrap_cache_key(folder, params))
     n_shapes = len(outlines)
-    if cache and path.exists():
-        with np.load(path, allow_pickle=False) as f:
-            angles, got, done, off = f["angles"], f["laps"], f["complete"], f["offset"]
+    stored = load_npz(path, "angles", "laps", "complete", "offset") if cache else None
+    if stored is not None:
+        angles, got, done, off = stored
     else:
         if protocol == "fixed-chain":
             angles, got, done, off = _fixed_chain_mpeg7(
@@ -768,10 +764,7 @@ def mpeg7_tentacle(
             done = np.all(np.isfinite(angles), axis=1)
             got, off = np.full(len(angles), np.nan), np.zeros(len(angles))
         if cache:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp = path.with_suffix(".tmp.npz")
-            np.savez(tmp, angles=angles, laps=got, complete=done, offset=off)
-            tmp.replace(path)
+            save_npz(path, angles=angles, laps=got, complete=done, offset=off)
     gap = _closure_gaps(angles)
     gap[~done] = np.nan
     rng = np.random.default_rng([random_state, 1])

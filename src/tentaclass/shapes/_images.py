@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import os
 import warnings
 from pathlib import Path
 
 import numpy as np
 
+from .._cache import cache_dir as _cache_root
+from .._cache import load_npz, save_npz
 from .._typing import ArrayLike, FloatArray
 from .._validation import as_rectangular_array, check_positive_int
 from ..errors import InputError, ShapeError, TentaclassWarning
@@ -141,18 +142,15 @@ def _load_cached(
     files = sorted(Path(folder).glob("*.png"), key=lambda p: p.name.lower())
     store = _cache_file(Path(cache_dir), files, max_vertices) if cache_dir else None
     bad: list[str] = []
-    if store is not None and store.is_file():
-        with np.load(store) as z:
-            xy, cuts = z["xy"], z["cuts"]
+    stored = load_npz(store, "xy", "cuts") if store is not None else None
+    if stored is not None:
+        xy, cuts = stored
         decoded: list[np.ndarray | None] = [*np.split(xy, cuts[1:-1])]
     else:
         decoded, bad = _decode(files, max_vertices)
         if store is not None and decoded and not bad:
-            store.parent.mkdir(parents=True, exist_ok=True)
             cuts = np.cumsum([0] + [len(o) for o in decoded if o is not None])
-            tmp = store.with_suffix(".tmp.npz")
-            np.savez(tmp, xy=np.concatenate([o for o in decoded if o is not None]), cuts=cuts)
-            tmp.replace(store)
+            save_npz(store, xy=np.concatenate([o for o in decoded if o is not None]), cuts=cuts)
     kept = [(f, o) for f, o in zip(files, decoded, strict=True) if o is not None]
     for _, o in kept:
         o.setflags(write=False)
@@ -168,11 +166,6 @@ def _fingerprint(folder: Path) -> str:
         st = f.stat()
         h.update(f"{f.name} {st.st_size} {st.st_mtime_ns}".encode())
     return h.hexdigest()
-
-
-def _default_cache_dir() -> Path:
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "tentaclass"
 
 
 def load_mpeg7(
@@ -225,7 +218,7 @@ def load_mpeg7(
     if max_vertices is not None:
         max_vertices = check_positive_int(max_vertices, "max_vertices", minimum=3)
     if cache is True:
-        cache_dir: str | None = str(_default_cache_dir())
+        cache_dir: str | None = str(_cache_root())
     elif cache is False or cache is None:
         cache_dir = None
     else:
