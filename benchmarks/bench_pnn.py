@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/bench_pnn.py [--train 100000] [--test 100000]``.
 
-Goal (issue 4): on 100 000 training and 100 000 test arrays of 32 features,
+Goal: on 100 000 training and 100 000 test arrays of 32 features,
 ``PNNClassifier.predict`` at least as fast as
 ``KNeighborsClassifier(n_neighbors=1, algorithm="brute")`` and within 2x of the
 bare product ``X_test @ X_train.T`` (result discarded: the full 100 000 x
