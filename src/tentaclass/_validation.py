@@ -60,10 +60,12 @@ def as_angle_array(
             f"{name} must hold at least {min_joints} angles along its last axis, "
             f"got {arr.shape[-1]} (shape {arr.shape})"
         )
-    if not np.all(np.isfinite(arr)):
+    # two reductions and no temporary array: min and max are NaN if any value is
+    lo, hi = float(arr.min()), float(arr.max())
+    if not (np.isfinite(lo) and np.isfinite(hi)):
         bad = int(np.count_nonzero(~np.isfinite(arr)))
         raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
-    if bounded:
+    if bounded and not (-MAX_ANGLE <= lo and hi <= MAX_ANGLE):
         check_angle_range(arr, name)
     return arr
 
@@ -94,6 +96,8 @@ def check_angle_range(q: FloatArray, name: str, *, first: int = 0) -> None:
 turns (6.588e+06 rad): are these joint angles in radians?
     """
     flat = q.reshape(-1, q.shape[-1])
+    if flat.size and -MAX_ANGLE <= flat.min() and flat.max() <= MAX_ANGLE:
+        return  # (a NaN makes min and max NaN and both comparisons false)
     # "not <=" refuses NaN too, for a caller that did not check finiteness
     bad = ~(np.abs(flat) <= MAX_ANGLE)
     if bad.any():

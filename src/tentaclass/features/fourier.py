@@ -164,9 +164,13 @@ def _matmul_blocks(
     canonicalize: bool,
     out: FloatArray,
 ) -> None:
+    # one buffer for every block's product: a fresh 8 MiB array per block is
+    # mapped anew by malloc and its pages faulted in, which costs as much as the
+    # product's arithmetic
+    buf = np.empty((min(_BLOCK_ROWS, q.shape[0]), weights.shape[1]))
     for lo in range(0, q.shape[0], _BLOCK_ROWS):
         block = q[lo : lo + _BLOCK_ROWS]
-        z = block @ weights
+        z = np.matmul(block, weights, out=buf[: block.shape[0]])
         if canonicalize:
             cw = z[:, -1] < 0
             if cw.any():
