@@ -38,13 +38,10 @@ def _private_cache(tmp_path_factory, monkeypatch):
 
     Defined here so that it holds for the doctests in src/ as well as for tests/.
 
-    Under pytest-xdist the workers of one run share the cache of decoded
-    outlines and generated wraps (written whole or not at all), so a folder is
-    decoded once per run rather than once per worker; aeon's data stays per worker.
+    Under pytest-xdist each worker has a temporary folder (and so caches) of its own.
     """
     base = tmp_path_factory.getbasetemp()
-    run = base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
-    monkeypatch.setenv("XDG_CACHE_HOME", str(run / "cache"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(base / "cache"))
     monkeypatch.setenv("AEON_DATA", str(base / "aeon_data"))
 
 
