@@ -50,9 +50,7 @@ ESTIMATORS = [
     LastLap(),
     LastLap(n_out=16),
     AngleSpectrum(),
-    # laps of 16 points instead of 64: the same code at a quarter of the resolution;
-    # check_classifiers_train's six fits and many predictions cost a third less
-    TentacleClassifier(n_points=16),
+    TentacleClassifier(),
     FourierClassifier(spread="auto", n_harmonics=0.5, weight_power=0.5),
     thesis_mlp(random_state=0),
     modern_mlp(random_state=0),
