@@ -53,6 +53,13 @@ def data():
     return X, y, Xn
 
 
+@pytest.fixture(scope="module")
+def tentacle(data):
+    """``TentacleClassifier()`` fitted on ``data``, shared (the tests only read it)."""
+    X, y, _ = data
+    return tc.TentacleClassifier().fit(X, y)
+
+
 def per_block(func, X, rows):
     return np.concatenate([func(X[i : i + rows]) for i in range(0, len(X), rows)])
 
@@ -197,11 +204,9 @@ def test_estimator_agrees_with_dask_ml(client, data):
     np.testing.assert_array_equal(ours, theirs)
 
 
-def test_estimator_checks_eagerly(data):
-    X, y, _ = data
-    clf = tc.TentacleClassifier().fit(X, y)
+def test_estimator_checks_eagerly(tentacle):
     with pytest.raises(ValueError, match="12 features"):
-        clf.predict(da.zeros((10, 12), chunks=5))
+        tentacle.predict(da.zeros((10, 12), chunks=5))
     with pytest.raises(ValueError, match="n_harmonics"):
         tc.fourier_features(da.zeros((10, 16), chunks=5), n_harmonics=9)
 
@@ -379,10 +384,10 @@ def test_unreachable_scheduler(monkeypatch, tmp_path):
     assert "Traceback" not in res.output
 
 
-def test_files_of_another_chain_length(client, data, tmp_path):
-    X, y, Xn = data
+def test_files_of_another_chain_length(client, data, tentacle, tmp_path):
+    Xn = data[2]
     model = tmp_path / "m.tcm"
-    tc.save_model(tc.TentacleClassifier().fit(X, y), model)
+    tc.save_model(tentacle, model)
     logs = tmp_path / "logs"
     logs.mkdir()
     np.save(logs / "a.npy", Xn[:20])
