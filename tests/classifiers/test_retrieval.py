@@ -200,6 +200,7 @@ MPEG7_CLASSES = (
 
 
 @pytest.mark.slow  # shares the 350-shape matrix with the bull's-eye test
+@pytest.mark.mpeg7
 def test_mpeg7_subset_retrieval(mpeg7_quarter):
     outlines, labels, D = mpeg7_quarter
     rows = np.flatnonzero(np.isin(labels, MPEG7_CLASSES))
@@ -213,6 +214,7 @@ def test_mpeg7_subset_retrieval(mpeg7_quarter):
 
 
 @pytest.mark.slow  # 350 x 350 pairs: about 20 s of CPU
+@pytest.mark.mpeg7
 def test_mpeg7_bullseye_of_the_elastic_matcher(mpeg7_quarter):
     """The bull's-eye test on every fourth silhouette of each of the 70 classes.
 

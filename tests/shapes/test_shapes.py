@@ -123,6 +123,7 @@ def test_from_mask_errors():
 
 
 @pytest.mark.slow
+@pytest.mark.mpeg7
 @needs_mpeg7
 def test_load_mpeg7():
     # the session's cache, which the other MPEG-7 tests share: the folder is decoded

@@ -122,6 +122,7 @@ def test_grasp_state_on_2000_generated_wraps_of_thesis_shapes():
 
 
 @pytest.mark.slow
+@pytest.mark.mpeg7
 @needs_mpeg7
 def test_grasp_state_on_2000_generated_wraps_of_mpeg7_outlines():
     rows = [r for r in generate(2600, seed=2, pool="mpeg7") if r[1].complete]

@@ -54,6 +54,7 @@ def test_errors():
 
 
 @pytest.mark.slow
+@pytest.mark.mpeg7
 @needs_mpeg7
 def test_mpeg7_outline_error_grows_with_link_length():
     outlines, _, names = shapes.load_mpeg7(MPEG7, max_vertices=1000)

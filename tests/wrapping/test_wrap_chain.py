@@ -94,6 +94,7 @@ HARD = ["beetle-1.png", "device8-1.png", "fly-1.png", "spring-1.png", "fork-1.pn
         "bat-1.png", "lizzard-1.png"]  # fmt: skip
 
 
+@pytest.mark.mpeg7
 @needs_mpeg7
 @pytest.mark.parametrize("mode", ["taut", "hug"])
 def test_spread_of_mpeg7_outlines_place_every_link(mode):

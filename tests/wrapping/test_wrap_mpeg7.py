@@ -18,6 +18,7 @@ def mpeg7():
     return load_mpeg7(MPEG7, max_vertices=1000)
 
 
+@pytest.mark.mpeg7
 @needs_mpeg7
 @pytest.mark.parametrize("mode", ["taut", "hug"])
 def test_every_20th_outline(mpeg7, mode):
