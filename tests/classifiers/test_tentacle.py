@@ -112,14 +112,20 @@ def test_wraps_just_short_of_a_lap_are_partial(model, noise):
     assert np.all(model.grasp(full.data)["state"] == "closed")
 
 
-def test_unknown_class_is_rejected(model):
-    # measured: every triangle rejected, 5.1 % of the other wraps
+@pytest.fixture(scope="module")
+def open_set():
+    """``TentacleClassifier(reject=True)`` trained without triangles, its wraps, the known rows."""
     d = synthetic_tentacle(300, 32, laps=(1.1, 2.0), noise=0.0, random_state=14)
-    t = synthetic_tentacle(200, 32, laps=(1.1, 2.0), noise=0.0, random_state=15)
     # only wraps the generator made as asked (a few chains coil up past their laps)
-    d_ok, t_ok = d.laps < 2.4, t.laps < 2.4
-    known = d_ok & (d.target != "triangle")
-    clf = TentacleClassifier(reject=True).fit(d.data[known], d.target[known])
+    known = (d.laps < 2.4) & (d.target != "triangle")
+    return TentacleClassifier(reject=True).fit(d.data[known], d.target[known]), d, known
+
+
+def test_unknown_class_is_rejected(model, open_set):
+    # measured: every triangle rejected, 5.1 % of the other wraps
+    clf = open_set[0]
+    t = synthetic_tentacle(200, 32, laps=(1.1, 2.0), noise=0.0, random_state=15)
+    t_ok = t.laps < 2.4
     assert clf.reject_threshold_ < np.inf
     pred = clf.predict(t.data[t_ok])
     tri = t.target[t_ok] == "triangle"
@@ -299,14 +305,11 @@ def test_partial_arc_found_whatever_its_turning_says():
     assert d[0, 2] < 0.5 * taken_as_told[0, 2]
 
 
-def test_rejection_reads_both_elastic_members_and_older_rules_still_work():
+def test_rejection_reads_both_elastic_members_and_older_rules_still_work(model, open_set):
     from tentaclass.classifiers._tentacle_core import _blend, _three_or_more
     from tentaclass.features import split_laps
 
-    # 100 wraps (69 known): the rule's shapes and arithmetic do not depend on how many
-    d = synthetic_tentacle(100, 32, laps=(1.1, 2.0), noise=0.02, random_state=18)
-    known = d.complete & (d.target != "triangle")
-    clf = TentacleClassifier(reject=0.1).fit(d.data[known], d.target[known])
+    clf, d, known = open_set  # the old rule below answers 15 of its first 60 wraps "unknown"
     k = len(clf.classes_)
     assert clf.reject_coef_.shape == (6,) and clf.class_spread_.shape == (2 * k,)
     assert len(clf.last_heights_) == known.sum()  # the rule needs the last laps' outlines
@@ -330,6 +333,5 @@ def test_rejection_reads_both_elastic_members_and_older_rules_still_work():
     unknown = np.flatnonzero(closed)[expected > 0]
     assert np.all(old.predict(X)[unknown] == "unknown")
     # without rejection the last laps' outlines are not kept when their weight is 0
-    # (it is 0 on these wraps)
-    plain = TentacleClassifier().fit(d.data[known], d.target[known])
-    assert plain.weights_[4] > 0 or len(plain.last_heights_) == 0
+    # (it is 0 in the module's default fit)
+    assert model.weights_[4] > 0 or len(model.last_heights_) == 0
