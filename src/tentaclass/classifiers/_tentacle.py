@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 from scipy.optimize import minimize_scalar
-from scipy.special import softmax
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.model_selection import GroupKFold
@@ -477,10 +476,21 @@ def _log_loss(s: FloatArray, y: np.ndarray) -> float:
     s, y = np.where(np.isfinite(s[rows]), s[rows], 1e6), y[rows]
 
     def loss(log_t: float) -> float:
-        p = softmax(-s / np.exp(log_t), axis=1)
-        return float(-np.mean(np.log(p[np.arange(len(y)), y] + 1e-12)))
+        return _true_class_loss(-s / np.exp(log_t), y)
 
     return float(minimize_scalar(loss, bounds=(-6, 4), method="bounded").fun)
+
+
+def _true_class_loss(a: FloatArray, y: np.ndarray) -> float:
+    """Mean ``-log(softmax(a, axis=1)[i, y[i]] + 1e-12)``.
+
+    Only the true classes' probabilities are divided out, by the same
+    operations as ``scipy.special.softmax`` (so the same numbers to the bit):
+    the temperature search calls this some thirty times per candidate blend.
+    """
+    e = np.exp(a - np.max(a, axis=1, keepdims=True))
+    p = e[np.arange(len(y)), y] / np.sum(e, axis=1)
+    return float(-np.mean(np.log(p + 1e-12)))
 
 
 def _subset(n: int, k: int, rng: np.random.Generator) -> np.ndarray:
@@ -502,9 +512,10 @@ def _calibrate(s: FloatArray, y: np.ndarray, rate: float | None) -> tuple[float,
     s = np.where(np.isfinite(s), s / scale, 1e6)
     rows = finite & np.isfinite(s[np.arange(len(y)), y] if len(y) else finite)
 
+    known = s[rows]
+
     def loss(log_t: float) -> float:
-        p = softmax(-s[rows] / np.exp(log_t), axis=1)
-        return float(-np.mean(np.log(p[np.arange(rows.sum()), y[rows]] + 1e-12)))
+        return _true_class_loss(-known / np.exp(log_t), y[rows])
 
     t = 1.0
     if rows.any():
