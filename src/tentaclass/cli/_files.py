@@ -46,7 +46,7 @@ def expand(pattern: str, suffixes: tuple[str, ...] | None = None) -> list[Path]:
     stems = Counter(p.stem for p in paths)
     twice = sorted(s for s, c in stems.items() if c > 1)
     if twice:
-        raise ValueError(f"files from different folders share the name {twice[0]!r}: "
+        raise ValueError(f"files share the name {twice[0]!r} (without their suffix): "
                          "their outputs would overwrite each other")  # fmt: skip
     return paths
 
@@ -195,7 +195,8 @@ def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:
     scanner = None
     with open(src, "rb") as fh, atomic_output(dst) as out:
         for chunk in read_rows(fh, fmt=settings.get("fmt"), width=settings.get("width"),
-                               chunk_rows=settings.get("chunk_rows", 1024)):  # fmt: skip
+                               chunk_rows=settings.get("chunk_rows", 1024),
+                               dtype=settings.get("dtype")):  # fmt: skip
             if scanner is None:
                 w = settings.get("width") or (chunk.shape[1] if isinstance(chunk, np.ndarray)
                                               else None)  # fmt: skip
@@ -291,9 +292,10 @@ def scan_many(opts: dict) -> None:
     from ..scanner import ScannerModel
 
     model = ScannerModel.load(opts["model_file"]) if opts["model_file"] is not None else None
-    keys = ("max_height", "min_area", "nominal_size", "size_tolerance")
+    keys = ("max_height", "min_area", "nominal_size", "size_tolerance", "threshold", "polarity",
+            "contrast")  # fmt: skip
     settings = {"fmt": opts["fmt"], "width": opts["width"], "chunk_rows": opts["chunk_rows"],
-                "scanner": {k: opts[k] for k in keys}}  # fmt: skip
+                "dtype": opts["dtype"], "scanner": {k: opts[k] for k in keys}}  # fmt: skip
     with dask_client(opts["scheduler"]) as client:
         done = scan_files(opts["files"], opts["out_dir"], client, model, settings)
     for s in done:
