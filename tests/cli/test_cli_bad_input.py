@@ -62,6 +62,51 @@ def one_line(r):
             "tentaclass scan",
             "'--write-belt': the folder 'no'",
         ),
+        (
+            ["classify", "--reject-below", "nan", "0 0 0 pi/2"],
+            "tentaclass classify",
+            "'--reject-below': must be a finite number, got nan",
+        ),
+        (["wrap", "--start", "nan"], "tentaclass wrap", "'--start': must be a finite number"),
+        (["wrap", "--offset", "inf"], "tentaclass wrap", "'--offset': must be a finite number"),
+        (["grasp", "--friction", "nan"], "tentaclass grasp", "'--friction': must be a finite"),
+        (["scan", "-", "--contrast", "nan"], "tentaclass scan", "'--contrast': must be a finite"),
+        (
+            ["classify", "--out-dir", "labels", "0 0 0 pi/2"],
+            "tentaclass classify",
+            "--out-dir needs --files",
+        ),
+        (
+            ["classify", "--files", "*.csv", "--out-dir", "labels", "--reject"],
+            "tentaclass classify",
+            "--reject does not go with --files",
+        ),
+        (
+            ["classify", "--files", "*.csv", "--out-dir", "labels", "--json"],
+            "tentaclass classify",
+            "--json does not go with --files",
+        ),
+        (["scan", "-", "--out-dir", "objects"], "tentaclass scan", "--out-dir needs --files"),
+        (
+            ["scan", "-", "--random-state", "3"],
+            "tentaclass scan",
+            "--random-state needs --simulate",
+        ),
+        (
+            ["scan", "--simulate", "2", "--dtype", "uint8"],
+            "tentaclass scan",
+            "--dtype describes an input file; --simulate has none",
+        ),
+        (
+            ["wrap", "--shape", "circle", "--vertices", "0,0 1,0 0,1"],
+            "tentaclass wrap",
+            "--vertices is for --shape polygon or triangle, not circle",
+        ),
+        (
+            ["grasp", "--shape", "polygon", "--vertices", "0,0 1,0 0,1", "--size", "3"],
+            "tentaclass grasp",
+            "give either --size or --vertices, not both",
+        ),
     ],
 )
 def test_usage_errors_take_one_line(args, command, message):
@@ -312,3 +357,44 @@ def test_classify_names_ragged_rows(tmp_path):
     assert r.exit_code == 1
     message = f"Error: {tmp_path / 'a.csv'}: rows have different numbers of angles [3, 4]"
     assert one_line(r) == message
+
+
+def test_options_of_the_other_way_to_train_are_refused(tmp_path):
+    data = tmp_path / "train.npz"
+    np.savez(data, X=np.tile([0.0, 0.0, 0.0, np.pi / 2], (4, 4)), y=np.array(["a", "b"] * 2))
+    out = str(tmp_path / "m.tcm")
+    for extra, message in (
+        (["--links", "16"], "--links is for --outlines"),
+        (["--reject-rate", "0.1"], "--reject-rate is for --outlines"),
+        (["--random-state", "1"], "--random-state is for --outlines"),
+    ):
+        r = run("train", "--data", str(data), "--out", out, *extra)
+        assert r.exit_code == 2 and message in one_line(r)
+    for extra, message in (
+        (["--spread", "3"], "--spread is for --data"),
+        (["--no-detrend"], "--detrend/--no-detrend is for --data"),
+        (["--classifier", "rbf"], "--classifier is for --data"),
+    ):
+        r = run("train", "--outlines", str(tmp_path / "*.csv"), "--links", "16", "--out", out,
+                *extra)  # fmt: skip
+        assert r.exit_code == 2 and message in one_line(r)
+    assert not (tmp_path / "m.tcm").exists()
+
+
+@pytest.mark.parametrize("command", [["bench", "--samples", "8"], ["demo"]])
+def test_an_output_folder_that_cannot_be_made_is_refused_before_any_work(tmp_path, command):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    r = run(*command, "--out", str(blocker / "results"))
+    assert r.exit_code == 2
+    line = one_line(r)
+    assert f"cannot create the folder '{blocker / 'results'}'" in line
+    assert "Not a directory" in line
+
+
+def test_files_of_one_folder_sharing_a_name_are_named_as_such(tmp_path):
+    np.save(tmp_path / "log.npy", np.zeros((1, 16)))
+    (tmp_path / "log.csv").write_text("")
+    r = run("classify", "--files", str(tmp_path / "log.*"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 1
+    assert "files share the name 'log' (without their suffix)" in one_line(r)

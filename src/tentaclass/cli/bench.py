@@ -10,7 +10,13 @@ import numpy as np
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
 from ..wrapping import MAX_LINKS
-from .options import dask_client, noise_option, random_state_option, scheduler_option
+from .options import (
+    dask_client,
+    make_folder,
+    noise_option,
+    random_state_option,
+    scheduler_option,
+)
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ucr", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "tentacle,thesis,shift-nn-lp,lap-shape-nn,1nn-euclidean,svc,minirocket"
@@ -129,6 +135,7 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
                                  param_hint="--methods")  # fmt: skip
     if jobs == 0:
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
+    make_folder(out, "--out")
     with dask_client(scheduler) as client:  # generates the wraps on the cluster
         kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, random_state,
                           jobs, protocol, laps, offset, client, ucr_path, ucr_name)  # fmt: skip
@@ -139,7 +146,6 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     )
     table = results_markdown(results, title)
     click.echo(table)
-    out.mkdir(parents=True, exist_ok=True)
     stem = (
         f"{dataset}-{links}-{mode}-noise{noise:g}" if dataset in ("mpeg7", "synthetic") else dataset
     )

@@ -13,9 +13,11 @@ from .options import (
     AngleList,
     dask_client,
     files_options,
+    finite,
     input_file_option,
     parse_angle_rows,
     read_angle_file,
+    refuse_unused,
     scheduler_option,
 )
 
@@ -131,6 +133,7 @@ def builtin_model(n_links: int) -> tuple[Any, dict]:
 @click.option(
     "--reject-below",
     type=click.FloatRange(min=0, max=1),
+    callback=finite,
     help="Rejection threshold on the best class score, instead of the model's own.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
@@ -160,8 +163,11 @@ def classify(
     from ..io._deploy import _predict_once
     from ..report import classification_table, table_to_json
 
+    ctx = click.get_current_context()
     if files is not None or scheduler is not None:
+        refuse_unused(ctx, ("reject", "reject_below", "as_json"), "does not go with --files")
         return _many(files, out_dir, model_file, scheduler, angles is not None or file is not None)
+    refuse_unused(ctx, ("out_dir",), "needs --files")
     if angles is not None and file is not None:
         raise click.UsageError("give either ANGLES or --file, not both")
     if file is not None:

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import OutputFile, json_option, object_options, placement_options
+from .options import OutputFile, finite, json_option, object_options, placement_options
 from .wrap import _outline
 
 if TYPE_CHECKING:
@@ -50,12 +50,13 @@ def _save_figures(
 @click.command()
 @object_options("grasp")
 @click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
-@click.option("--link-length", type=click.FloatRange(min=0, min_open=True),
+@click.option("--link-length", type=click.FloatRange(min=0, min_open=True), callback=finite,
               help="Link length (default: the perimeter over the number of links).")  # fmt: skip
 @placement_options
-@click.option("--thickness", type=click.FloatRange(min=0, min_open=True),
+@click.option("--thickness", type=click.FloatRange(min=0, min_open=True), callback=finite,
               help="Link diameter (default a tenth of a link).")  # fmt: skip
-@click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True)
+@click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True,
+              callback=finite)  # fmt: skip
 @click.option("--plot", "plot", type=OutputFile(),
               help="Save the final pose with its contacts (PNG, PDF, SVG).")  # fmt: skip
 @click.option("--gif", type=OutputFile(),

@@ -185,6 +185,46 @@ def finite(ctx, param, value):
     return value
 
 
+def given(ctx: click.Context, *names: str) -> list[str]:
+    """The options among ``names`` (parameter names) set on the command line, as flags.
+
+    An option left at its default is not listed, so a command can refuse
+    options that have no effect in the mode it runs in.
+    """
+    from click.core import ParameterSource
+
+    flags = {p.name: "/".join([p.opts[0], *p.secondary_opts]) for p in ctx.command.params}
+    return [
+        flags[name]
+        for name in names
+        if ctx.get_parameter_source(name) not in (None, ParameterSource.DEFAULT)
+    ]
+
+
+def refuse_unused(ctx: click.Context, names: Iterable[str], why: str) -> None:
+    """A usage error naming the first of ``names`` set on the command line, with ``why``.
+
+    ``why`` completes "--option ...", e.g. ``"needs --files"``.
+    """
+    used = given(ctx, *names)
+    if used:
+        raise click.UsageError(f"{used[0]} {why}")
+
+
+def make_folder(path: Path, option: str) -> Path:
+    """Create the output folder ``path`` (and its parents) before any work is done.
+
+    A folder that cannot be made is a usage error naming ``option`` and the reason.
+    """
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise click.BadParameter(
+            f"cannot create the folder {str(path)!r}: {exc.strerror or exc}", param_hint=option
+        ) from None
+    return path
+
+
 def number_option(
     name: str, type: click.FloatRange, default: float, help: str
 ) -> Callable[[_Command], _Command]:
@@ -230,11 +270,12 @@ def placement_options(func: _Command) -> _Command:
     """Where a chain starts on an object: ``--start``, ``--direction``, ``--offset``."""
     for option in reversed([
         click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
-                     show_default=True, help="Start point, fraction of the perimeter."),
+                     show_default=True, callback=finite,
+                     help="Start point, fraction of the perimeter."),
         click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw",
                      show_default=True),
         click.option("--offset", type=click.FloatRange(min=0), default=0.0, show_default=True,
-                     help="Distance of the base from the object."),
+                     callback=finite, help="Distance of the base from the object."),
     ]):  # fmt: skip
         func = option(func)
     return func

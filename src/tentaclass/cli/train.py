@@ -17,6 +17,7 @@ from ..io import save_model
 from .options import (
     OutputFile,
     dask_client,
+    finite,
     input_file_option,
     load_npy,
     number_option,
@@ -24,6 +25,7 @@ from .options import (
     predict_on,
     progress_bar,
     random_state_option,
+    refuse_unused,
     scheduler_option,
 )
 
@@ -348,6 +350,7 @@ def train_for_chain(
 @click.option(
     "--reject-rate",
     type=click.FloatRange(0, 1, min_open=True, max_open=True),
+    callback=finite,
     help="With --outlines: train the model to answer 'unknown' for objects unlike every "
     "class, rejecting about this fraction of known ones (e.g. 0.02).",
 )
@@ -425,12 +428,14 @@ def train(
     if (data is None) == (not outlines):
         raise ValueError("give either --data or --outlines")
     if data is not None:
+        refuse_unused(ctx, _FOR_OUTLINES, "is for --outlines; --data trains on measured arrays")
         if n_coeffs is not None:
             if n_harmonics is not None:
                 raise ValueError("give --n-harmonics only, not --n-coeffs as well")
             n_harmonics = n_coeffs
         _train_on_arrays(data, out, classifier, spread, n_harmonics, detrend, scheduler)
         return
+    refuse_unused(ctx, _FOR_DATA, "is for --data; --outlines trains the default recogniser")
     if n_links is None:
         raise ValueError("--outlines needs --links (the chain's number of links)")
     if laps_text is not None and diameters_text is not None:
@@ -468,6 +473,24 @@ def train(
         f"{t['n_samples']} wraps of {n_links} links ({t['n_failed']} failed), held-out "
         f"accuracy {t['held_out_accuracy']:.3f} -> {out}"
     )
+
+
+#: Parameters of ``train`` that only training on outlines uses, and only training on arrays.
+_FOR_OUTLINES = (
+    "labels_file",
+    "n_links",
+    "link_length",
+    "laps_text",
+    "diameters_text",
+    "offset_text",
+    "noise_text",
+    "n_wraps",
+    "mode",
+    "random_state",
+    "seed",
+    "reject_rate",
+)
+_FOR_DATA = ("classifier", "spread", "n_harmonics", "n_coeffs", "detrend", "scheduler")
 
 
 def _train_on_arrays(
