@@ -197,6 +197,27 @@ def check_positive_float(value: object, name: str, *, allow_zero: bool = False) 
     return v
 
 
+def check_one_value(value: ArrayLike, name: str, hint: str = "") -> None:
+    """Refuse an array where one number is expected (a number's errors come later).
+
+    ``hint`` follows the message, e.g. what to use for many values.
+
+    >>> check_one_value([1.0, 2.0], "link_length", " (use wrap_many)")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: link_length must be one number, got 2 values (use wrap_many)
+    """
+    try:
+        ndim = np.ndim(value)
+    except ValueError:  # a ragged sequence
+        ndim = None
+    if ndim == 0 or isinstance(value, (str, bytes)):
+        return
+    size = None if ndim is None else int(np.size(value))
+    count = "a ragged sequence" if size is None else f"{size} value{'' if size == 1 else 's'}"
+    raise InputError(f"{name} must be one number, got {count}{hint}")
+
+
 def check_finite_float(value: object, name: str) -> float:
     """A finite real number (not bool) of any sign."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):

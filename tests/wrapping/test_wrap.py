@@ -297,6 +297,11 @@ def test_every_link_is_placed_where_the_support_offers_none():
         ({"offset": -1.0}, "offset"),
         ({"offset": -1.0}, "must be >= 0"),  # was "must lie in >= 0"
         ({"noise": 0.1, "random_state": "x"}, "random_state"),  # was TypeError
+        # one wrap by a chain of equal links: an array of lengths was a batch cut to its first
+        ({"link_length": [1.0, 2.0] * 8}, "link_length must be one number, got 16 values"),
+        ({"link_length": [1.0]}, "link_length must be one number, got 1 value "),
+        ({"start": [0.1, 0.2]}, "start must be one number, got 2 values"),
+        ({"offset": [[0.0], [1.0, 2.0]]}, "offset must be one number, got a ragged sequence"),
     ],
 )
 def test_bad_input(kwargs, match):

@@ -13,6 +13,7 @@ from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from .._validation import (
     check_links_fit,
+    check_one_value,
     check_positive_float,
     check_positive_int,
     check_reach,
@@ -470,6 +471,9 @@ def wrap(
     >>> wrap(square(4), 8, 1.0, offset=2.0).offset_links
     2
     """
+    for name, value in (("link_length", link_length), ("start", start), ("offset", offset)):
+        check_one_value(value, name, " (wrap is one wrap by a chain of equal links; wrap_many "
+                        "takes one value per wrap)")  # fmt: skip
     batch = wrap_many(
         outline, n_links, link_length, start, direction=direction, offset=offset, mode=mode,
         noise=noise, random_state=renamed("random_state", random_state, "seed", seed),
