@@ -325,7 +325,7 @@ def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) 
     try:
         return validate_data(estimator, X, reset=reset, **kwargs)
     except ValueError as exc:
-        raise ragged_error(X, "X", exc) from None
+        raise _input_error(ragged_error(X, "X", exc)) from None
 
 
 def check_fitted_X(estimator: Any, X: ArrayLike) -> FloatArray:
@@ -349,7 +349,30 @@ def check_X_y(
     try:
         return validate_data(estimator, X, y, **kwargs)
     except ValueError as exc:
-        raise ragged_error(X, "X", exc) from None
+        raise _input_error(ragged_error(X, "X", exc)) from None
+
+
+def check_targets(y: ArrayLike) -> None:
+    """scikit-learn's ``check_classification_targets``, raising :class:`InputError`.
+
+    >>> check_targets([0.5, 1.5])
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: Unknown label type: continuous. ...
+    """
+    from sklearn.utils.multiclass import check_classification_targets
+
+    try:
+        check_classification_targets(y)
+    except ValueError as exc:
+        raise _input_error(exc) from None
+
+
+def _input_error(exc: Exception) -> Exception:
+    """``exc`` as an :class:`InputError` with its message (tentaclass errors are kept)."""
+    if isinstance(exc, InputError):
+        return exc
+    return InputError(str(exc))
 
 
 def check_spread(

@@ -16,12 +16,11 @@ from sklearn.model_selection import GroupKFold
 from sklearn.neural_network import MLPClassifier
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
-from sklearn.utils.multiclass import check_classification_targets
 from threadpoolctl import threadpool_limits
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_fitted_X, check_positive_int, check_X_y
+from .._validation import check_fitted_X, check_positive_int, check_targets, check_X_y
 from ..errors import InputError
 from ..features import LapSplit, last_lap, split_laps
 from . import _elastic
@@ -250,7 +249,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         """
         rate = self._check_params()
         Xv, yv = check_X_y(self, X, y, dtype=np.float64)
-        check_classification_targets(yv)
+        check_targets(yv)
         groups = np.arange(len(yv)) if groups is None else np.asarray(groups)
         if groups.shape != (len(yv),):
             raise InputError(f"groups must have one entry per wrap ({len(yv)}), got {groups.shape}")
