@@ -340,6 +340,17 @@ def _array_spec(meta, attribute):
         ),
         (lambda m: _features_node(m)["params"].update(detrend={"__dict__": 5}), "wrong type"),
         (lambda m: m.update(info=[1]), "info must be an object"),
+        # counts of the wrong type were TypeErrors when predicting
+        (
+            lambda m: _features_node(m)["state"].update(n_features_in_=1.5),
+            "n_features_in_ must be an integer from 1 to 2\\*\\*31 - 1, got 1.5",
+        ),
+        (lambda m: _pnn_node(m)["state"].update(n_features_in_=None), "n_features_in_ must be"),
+        (lambda m: _features_node(m)["state"].update(n_harmonics_=10**30), "n_harmonics_ must be"),
+        (
+            lambda m: m["estimator"]["params"]["steps"][0]["__tuple__"].__setitem__(0, 7),
+            "Pipeline steps must be \\(name, estimator\\) pairs with distinct names",
+        ),
     ],
 )
 def test_bad_metadata(tmp_path, good, edit, match):
@@ -565,3 +576,31 @@ def test_every_estimator_of_the_package_may_be_saved():
     assert own | {"ScannerModel"} <= set(_ALLOWED)
     for name in _ALLOWED:
         assert _allowed_class(name).__name__ == name
+
+
+def _union_node(meta):
+    """The FeatureUnion of a bundled model (the first step of its pipeline)."""
+    return meta["estimator"]["params"]["steps"][0]["__tuple__"][1]["params"]
+
+
+@pytest.mark.parametrize(
+    "edit, match",
+    [
+        (lambda u: u.update(n_jobs=0), "n_jobs must be None or a non-zero int, got 0"),
+        (lambda u: u.update(n_jobs=10**30), "n_jobs must be None or a non-zero int"),
+        (lambda u: u.update(transformer_weights=-1), "transformer_weights must be None or a dict"),
+        (
+            lambda u: u["transformer_list"][0]["__tuple__"].__setitem__(0, -1),
+            "FeatureUnion transformer_list must be \\(name, estimator\\) pairs",
+        ),
+    ],
+)
+def test_bad_feature_union_metadata(tmp_path, edit, match):
+    # scikit-learn checks these only when transforming (ValueError, OverflowError,
+    # AttributeError, TypeError there): the file is refused when read
+    from importlib.resources import files
+
+    bundled = files("tentaclass.data") / "default-16.tcm"
+    bad = rewrite(bundled, tmp_path / "x.tcm", meta_fn=lambda m: edit(_union_node(m)))
+    with pytest.raises(ModelFileError, match=match):
+        load_model(bad)

@@ -562,10 +562,66 @@ def _check_rbf(est: Any) -> None:
         raise ModelFileError("RBF arrays are inconsistent with each other or the classes")
 
 
+def _check_names(steps: object, where: str) -> None:
+    """A Pipeline's steps or a FeatureUnion's transformers: (name, estimator) pairs."""
+    names = [s[0] for s in steps if isinstance(s, tuple) and len(s) == 2] if isinstance(
+        steps, list
+    ) else []  # fmt: skip
+    if (
+        not isinstance(steps, list)
+        or len(names) != len(steps)
+        or not all(isinstance(n, str) and n.isidentifier() for n in names)
+        or len(set(names)) != len(names)
+    ):
+        raise ModelFileError(f"{where} must be (name, estimator) pairs with distinct names")
+
+
+def _check_pipeline(est: Any) -> None:
+    _check_names(est.steps, "Pipeline steps")
+
+
+def _check_feature_union(est: Any) -> None:
+    """FeatureUnion's parameters, which scikit-learn checks only when it transforms."""
+    _check_names(est.transformer_list, "FeatureUnion transformer_list")
+    n_jobs, weights = est.n_jobs, est.transformer_weights
+    if n_jobs is not None and (
+        isinstance(n_jobs, bool) or not isinstance(n_jobs, int) or n_jobs == 0
+        or abs(n_jobs) > 2**31 - 1
+    ):  # fmt: skip
+        raise ModelFileError(f"FeatureUnion n_jobs must be None or a non-zero int, got {n_jobs!r}")
+    if weights is not None and not (
+        isinstance(weights, dict)
+        and all(
+            isinstance(w, int | float) and not isinstance(w, bool) and math.isfinite(w)
+            for w in weights.values()
+        )
+    ):
+        raise ModelFileError(
+            f"FeatureUnion transformer_weights must be None or a dict of numbers, got {weights!r}"
+        )
+
+
 _CHECKS: dict[str, Callable[[Any], None]] = {
     "PNNClassifier": _check_pnn,
     "RBFNetworkClassifier": _check_rbf,
 }
+
+#: Checks of estimators whether fitted or not (a FeatureUnion has no fitted state).
+_PARAM_CHECKS: dict[str, Callable[[Any], None]] = {
+    "FeatureUnion": _check_feature_union,
+    "Pipeline": _check_pipeline,
+}
+
+#: Fitted counts that must be integers >= 1 wherever an estimator has them.
+_COUNTS = ("n_features_in_", "n_harmonics_", "n_out_")
+
+
+def _check_counts(est: Any) -> None:
+    state = vars(est)
+    for key in _COUNTS:
+        value = state.get(key, 1)
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 2**31 - 1:
+            raise ModelFileError(f"{key} must be an integer from 1 to 2**31 - 1, got {value!r}")
 
 
 def _check_estimator(est: Any, name: str) -> None:
@@ -576,6 +632,9 @@ def _check_estimator(est: Any, name: str) -> None:
     try:
         if hasattr(est, "_parameter_constraints") or own_check:
             est._validate_params()
+        _check_counts(est)
+        if name in _PARAM_CHECKS:
+            _PARAM_CHECKS[name](est)
         if name in _CHECKS and hasattr(est, "classes_"):
             _CHECKS[name](est)
         rebuild = _DERIVED.get(name, ((), None))[1]
