@@ -340,6 +340,11 @@ class LineScanner:
         self._partial = self._next_partial
         if arr.shape[0] == 0:
             return []
+        if binary and self._n_held:
+            raise InputError(
+                f"row {self.rows_seen}: binary rows after {self._n_held} grey rows held to choose "
+                "the threshold: feed one kind of rows per stream"
+            )
         self.rows_seen += arr.shape[0]
         if self.threshold_ is None:
             if binary and self.threshold == "auto":
