@@ -398,3 +398,22 @@ def test_files_of_one_folder_sharing_a_name_are_named_as_such(tmp_path):
     r = run("classify", "--files", str(tmp_path / "log.*"), "--out-dir", str(tmp_path / "o"))
     assert r.exit_code == 1
     assert "files share the name 'log' (without their suffix)" in one_line(r)
+
+
+def test_text_files_with_a_byte_order_mark_are_read(tmp_path):
+    # spreadsheets save "CSV UTF-8" with a byte-order mark: it was "'\ufeff0' is not a number"
+    row = ",".join(["0", "0", "0", "pi/2"] * 4)
+    bom = tmp_path / "bom.csv"
+    bom.write_bytes(b"\xef\xbb\xbf" + row.encode() + b"\n")
+    r = run("classify", "--file", str(bom), "--json")
+    assert r.exit_code == 0, r.output
+    assert '"label": "square"' in r.output
+    train = tmp_path / "train.csv"
+    rows = [f"{row},square" if i % 2 else f"{','.join(['pi/8'] * 16)},circle" for i in range(4)]
+    train.write_bytes(b"\xef\xbb\xbf" + "\n".join(rows).encode())
+    r = run("train", "--data", str(train), "--out", str(tmp_path / "m.tcm"))
+    assert r.exit_code == 0 and "2 classes (circle, square)" in r.output, r.output
+    latin = tmp_path / "latin.csv"
+    latin.write_bytes(row.encode() + "  # é\n".encode("latin-1"))
+    r = run("classify", "--file", str(latin))
+    assert r.exit_code == 1 and one_line(r) == f"Error: {latin}: not a text file"

@@ -102,7 +102,7 @@ def chain_length(path: Path) -> int | None:
         arr = _npy_file(path)
         return arr.shape[1] if arr.shape[0] else None
     try:
-        with open(path) as fh:
+        with open(path, encoding="utf-8-sig") as fh:
             return parse_angle_rows(fh, str(path), first=True).shape[1] or None
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a text file") from None

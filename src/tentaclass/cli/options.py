@@ -80,6 +80,17 @@ def load_npy(path: Path) -> np.ndarray:
         raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
 
 
+def read_text(path: Path) -> str:
+    """The text of the file ``path``, UTF-8; ValueError naming the file when it is not text.
+
+    A leading byte-order mark (spreadsheets write one) is dropped.
+    """
+    try:
+        return path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file") from None
+
+
 def no_rows(source: object) -> ValueError:
     """The error for an angle file or stream without a single angle array."""
     return ValueError(f"{source}: no rows (no angle arrays in it)")
@@ -111,11 +122,7 @@ def read_angle_file(path: Path) -> np.ndarray:
         if arr.size == 0 and (arr.ndim == 1 or arr.shape[0] == 0):
             raise no_rows(path)
         return np.atleast_2d(arr.astype(np.float64))
-    try:
-        lines = path.read_text().splitlines()
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a text file") from exc
-    return parse_angle_rows(lines, str(path))
+    return parse_angle_rows(read_text(path).splitlines(), str(path))
 
 
 def parse_angle_rows(lines: Iterable[str], source: str, *, first: bool = False) -> np.ndarray:

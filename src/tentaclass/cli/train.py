@@ -25,6 +25,7 @@ from .options import (
     predict_on,
     progress_bar,
     random_state_option,
+    read_text,
     refuse_unused,
     scheduler_option,
 )
@@ -78,10 +79,7 @@ def _read_npz(path: Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _read_csv(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        text = path.read_text()
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a text file") from None
+    text = read_text(path)
     rows: list[list[float]] = []
     labels: list[str] = []
     lines = [(i, line) for i, line in enumerate(text.splitlines(), 1)]
@@ -158,10 +156,7 @@ def label_from_name(path: Path) -> str:
 
 def read_labels(path: Path) -> dict[str, str]:
     """``file,label`` rows (a header row ``file,label`` is skipped): file name -> label."""
-    try:
-        text = path.read_text()
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a text file") from None
+    text = read_text(path)
     labels: dict[str, str] = {}
     for lineno, row in enumerate(csv.reader(text.splitlines()), 1):
         row = [f.strip() for f in row]
@@ -194,7 +189,7 @@ def read_outline(path: Path) -> np.ndarray:
         points = load_npy(path)
     else:
         try:
-            rows = [r for r in csv.reader(path.read_text().splitlines()) if r and any(r)]
+            rows = [r for r in csv.reader(read_text(path).splitlines()) if r and any(r)]
             points = np.array([[float(v) for v in r] for r in rows if not r[0].startswith("#")])
         except (ValueError, UnicodeDecodeError):
             raise ValueError(f"{path}: expected 'x,y' rows of numbers") from None
