@@ -107,6 +107,15 @@ def one_line(r):
             "tentaclass grasp",
             "give either --size or --vertices, not both",
         ),
+        # figure formats are checked before any work (they failed after it, scan after
+        # printing every object)
+        (["wrap", "--plot", "w.xyz"], "tentaclass wrap", "'w.xyz': cannot write .xyz; use .eps"),
+        (
+            ["scan", "--simulate", "2", "--annotate", "b.xyz"],
+            "tentaclass scan",
+            "'--annotate': 'b.xyz': cannot write .xyz; use .eps",
+        ),
+        (["grasp", "--gif", "g.png"], "tentaclass grasp", "'g.png': cannot write .png; use .gif"),
     ],
 )
 def test_usage_errors_take_one_line(args, command, message):

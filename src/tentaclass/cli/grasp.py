@@ -57,9 +57,9 @@ def _save_figures(
               help="Link diameter (default a tenth of a link).")  # fmt: skip
 @click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True,
               callback=finite)  # fmt: skip
-@click.option("--plot", "plot", type=OutputFile(),
+@click.option("--plot", "plot", type=OutputFile(figure=True),
               help="Save the final pose with its contacts (PNG, PDF, SVG).")  # fmt: skip
-@click.option("--gif", type=OutputFile(),
+@click.option("--gif", type=OutputFile(suffixes=(".gif",)),
               help="Save an animation of the chain closing (GIF).")  # fmt: skip
 @json_option
 def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,

@@ -161,13 +161,28 @@ class OutputFile(click.Path):
     Checked when the command line is read, before any work is done.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, *, figure: bool = False, suffixes: tuple[str, ...] = ()) -> None:
         super().__init__(dir_okay=False, writable=True, path_type=Path)
+        self.figure = figure
+        self.suffixes = suffixes
 
     def convert(self, value, param, ctx):  # noqa: D102
         path = cast(Path, super().convert(value, param, ctx))
         if not path.absolute().parent.is_dir():
             self.fail(f"the folder {str(path.parent)!r} does not exist", param, ctx)
+        suffix = path.suffix.lower()
+        known = self.suffixes
+        if self.figure and suffix:
+            from matplotlib.backend_bases import FigureCanvasBase
+
+            known = tuple(f".{k}" for k in FigureCanvasBase.get_supported_filetypes())
+        if known and suffix not in known:
+            self.fail(
+                f"{str(path)!r}: cannot write {suffix or 'a file without a suffix'}; "
+                f"use {', '.join(known)}",
+                param,
+                ctx,
+            )
         return path
 
 

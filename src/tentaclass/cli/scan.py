@@ -153,7 +153,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 )
 @click.option(
     "--annotate",
-    type=OutputFile(),
+    type=OutputFile(figure=True),
     help="Draw the belt with boxes, labels and defect marks to this PNG "
     "(keeps the whole belt in memory).",
 )

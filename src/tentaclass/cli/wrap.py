@@ -86,7 +86,7 @@ def _outline(
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
               callback=finite, help="Joint noise standard deviation (radians).")  # fmt: skip
 @random_state_option("Seed of the noise [default: fresh].", default=None)
-@click.option("--plot", "plot", type=OutputFile(),
+@click.option("--plot", "plot", type=OutputFile(figure=True),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
 @json_option
 def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
