@@ -426,3 +426,23 @@ def test_text_files_with_a_byte_order_mark_are_read(tmp_path):
     latin.write_bytes(row.encode() + "  # é\n".encode("latin-1"))
     r = run("classify", "--file", str(latin))
     assert r.exit_code == 1 and one_line(r) == f"Error: {latin}: not a text file"
+
+
+@pytest.mark.parametrize(
+    "command, message",
+    [
+        (["scan", "-"], "Error: cannot read standard input: it is closed"),  # was a traceback
+        (["classify"], "Error: give either ANGLES or --file, or pipe angle arrays into stdin"),
+    ],
+)
+def test_a_closed_standard_input_is_one_line(command, message):
+    import os
+    import subprocess
+    import sys
+
+    r = subprocess.run(
+        [sys.executable, "-m", "tentaclass", *command],
+        capture_output=True, text=True, timeout=120, preexec_fn=lambda: os.close(0),
+    )  # fmt: skip
+    assert r.returncode == 1
+    assert r.stderr.strip() == message

@@ -263,7 +263,10 @@ def scan(
             if file is None:  # excluded above: exactly one of FILE and --simulate
                 raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
             if file == "-":
-                fh: Any = click.open_file("-", "rb")
+                try:
+                    fh: Any = click.open_file("-", "rb")
+                except RuntimeError:  # no standard input at all (closed)
+                    raise TentaclassError("cannot read standard input: it is closed") from None
                 total = None
             else:
                 try:
