@@ -424,11 +424,18 @@ def check_fraction(value: object, name: str) -> float:
 # A chain against an object: what wrap, wrap_many and the physical grasps refuse alike.
 
 
+#: Shortest link, as a fraction of the object's diameter: float64 places joints on
+#: the outline to about 1e-16 of its size, so shorter links lose the object's turns.
+MIN_LINK_FRACTION = 1e-12
+
+
 def check_links_fit(link_lengths: ArrayLike, diameter: float) -> None:
-    """Refuse links longer than the object's diameter: no link could lie on it.
+    """Refuse links longer than the object's diameter, or too short to place on it.
 
     A link rests with both ends on the object (or on the laps of the chain
-    around it), so its length cannot exceed the longest chord of the outline.
+    around it), so its length cannot exceed the longest chord of the outline;
+    a link shorter than ``MIN_LINK_FRACTION`` of the diameter ends where it
+    starts in float64, and the turns at the object's corners are lost.
 
     Examples
     --------
@@ -437,6 +444,11 @@ def check_links_fit(link_lengths: ArrayLike, diameter: float) -> None:
     ...
     tentaclass.errors.InputError: link_length 2.5 is longer than the object's diameter 2: \
 a link must fit between two points of the outline (use link_length <= 2)
+    >>> check_links_fit([1e-20], 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: link_length 1e-20 is too short for an object of diameter 2: \
+below 1e-12 of its size the joints cannot be placed apart (use link_length >= 2e-12)
     """
     ls = np.asarray(link_lengths, dtype=np.float64)
     too_long = ls > diameter
@@ -445,6 +457,14 @@ a link must fit between two points of the outline (use link_length <= 2)
             f"link_length {ls[too_long].flat[0]:g} is longer than the object's diameter "
             f"{diameter:g}: a link must fit between two points of the outline "
             f"(use link_length <= {diameter:g})"
+        )
+    shortest = MIN_LINK_FRACTION * diameter
+    too_short = ls < shortest
+    if np.any(too_short):
+        raise InputError(
+            f"link_length {ls[too_short].flat[0]:g} is too short for an object of diameter "
+            f"{diameter:g}: below {MIN_LINK_FRACTION:g} of its size the joints cannot be placed "
+            f"apart (use link_length >= {shortest:g})"
         )
 
 

@@ -292,7 +292,8 @@ def test_the_script_shows_warnings_on_one_line(tmp_path):
     "args, message",
     [
         (["--laps", "1e300"], "laps: 16 links cannot close 1e+300 laps (at most 8"),
-        (["--diameters", "2,1e300"], "diameters must be at most 1e+100 link lengths"),
+        (["--diameters", "2,1e300"], "diameters must be at most 1e+12 link lengths"),
+        (["--diameters", "1e13,1e14"], "diameters must be at most 1e+12 link lengths (links"),
         (["--noise", "1e300"], "noise must be at most 2*pi radians"),
     ],
 )

@@ -289,6 +289,8 @@ def test_every_link_is_placed_where_the_support_offers_none():
         ({"outline": [(0, 0), (4, 0), (4, 4), (2, -1), (0, 4)]}, "intersects itself"),
         ({"link_length": 0.0}, "link_length"),
         ({"link_length": 10.0}, "diameter"),
+        # joints 1e-20 apart coincide in float64: the square's corners turned by 0
+        ({"link_length": 1e-20}, "link_length 1e-20 is too short for an object of diameter 5.65"),
         ({"n_links": 0}, "n_links"),
         ({"start": 1.0}, "start"),
         ({"direction": "up"}, "direction"),

@@ -24,6 +24,7 @@ from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
 from .._validation import (
     MAX_NOISE,
+    MIN_LINK_FRACTION,
     check_choice,
     check_laps,
     check_positive_float,
@@ -32,7 +33,6 @@ from .._validation import (
 from ..errors import InputError
 from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
-from ..shapes._outline import _MAX_SPAN
 from ..wrapping import wrap_many
 from ._thesis import THESIS_CLASSES
 
@@ -885,10 +885,11 @@ def chain_wraps(
         check_laps(laps[1], n_links)
     if diameters is not None:
         diameters = _range(diameters, "diameters", allow_zero=False)
-        if diameters[1] > _MAX_SPAN:
+        if diameters[1] > 1 / MIN_LINK_FRACTION:
             raise InputError(
-                f"diameters must be at most {_MAX_SPAN:g} link lengths (objects too large to "
-                f"compute with), got {diameters!r}"
+                f"diameters must be at most {1 / MIN_LINK_FRACTION:g} link lengths (links "
+                f"shorter than {MIN_LINK_FRACTION:g} of an object cannot be placed on it), "
+                f"got {diameters!r}"
             )
         if diameters[0] < 1.0:
             raise InputError(
