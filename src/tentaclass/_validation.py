@@ -133,6 +133,10 @@ MAX_NOISE = 2 * np.pi
 #: Largest count the compiled kernels take (a signed 64-bit integer).
 MAX_INT64 = 2**63 - 1
 
+#: Most links a chain may have (and angles a resampled lap): beyond it the arrays no
+#: longer fit a sensible memory.
+MAX_LINKS = 100_000
+
 #: Largest size of one array axis read from a file (a row's pixels, rows per chunk).
 MAX_AXIS = 2**31 - 1
 

@@ -12,6 +12,7 @@ from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from .._validation import (
+    MAX_LINKS,
     check_links_fit,
     check_one_value,
     check_positive_float,
@@ -33,8 +34,6 @@ __all__ = ["MAX_LINKS", "Wrap", "WrapBatch", "wrap", "wrap_many"]
 
 _MODES = ("taut", "hug")
 
-#: Most links a chain may have: beyond it the arrays no longer fit a sensible memory.
-MAX_LINKS = 100_000
 #: A stretch of support within this fraction of a link of the outline counts as
 #: resting on the object: links between two joints on it are chords (they may
 #: cut the cap they span) and are not tested for crossing.
