@@ -96,7 +96,9 @@ def last_lap(
     """
     q = as_angle_array(q, "q", min_joints=2)
     n = q.shape[-1]
-    n_out = n if n_out is None else check_positive_int(n_out, "n_out", minimum=2, maximum=MAX_LINKS)
+    # at most the longest chain, or the input's own length
+    top = max(n, MAX_LINKS)
+    n_out = n if n_out is None else check_positive_int(n_out, "n_out", minimum=2, maximum=top)
     batch = q.shape[:-1]
     flat = q.reshape(-1, n)
     # Clockwise wraps are mirrored (negated) but not reversed: reversing would

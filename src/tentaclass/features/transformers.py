@@ -200,7 +200,7 @@ class LastLap(LastLapCore, _AngleTransformer):
         self.n_out_ = (
             n
             if self.n_out is None
-            else check_positive_int(self.n_out, "n_out", minimum=2, maximum=MAX_LINKS)
+            else check_positive_int(self.n_out, "n_out", minimum=2, maximum=max(n, MAX_LINKS))
         )
         return self
 
