@@ -283,7 +283,7 @@ def scan_many(opts: dict) -> None:
     """``scan --files`` (optionally ``--scheduler``): the command's options in, files out."""
     import click
 
-    from .options import dask_client
+    from .options import dask_client, note
 
     if opts["files"] is None or opts["file"] is not None or opts["simulate"] is not None:
         raise click.UsageError("--scheduler works with --files GLOB (not FILE or --simulate)")
@@ -302,4 +302,7 @@ def scan_many(opts: dict) -> None:
         line = json.dumps({"summary": s}) if opts["summary"] == "json" else (
             f"{s['file']}: {s['rows']} rows, {s['objects']} objects, {s['accepted']} accepted, "
             f"{s['rejected']} rejected")  # fmt: skip
-        click.echo(line, err=opts["summary"] != "json")
+        if opts["summary"] == "json":
+            click.echo(line)
+        else:
+            note(line)

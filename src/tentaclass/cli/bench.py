@@ -14,6 +14,7 @@ from .options import (
     dask_client,
     make_folder,
     noise_option,
+    note,
     random_state_option,
     scheduler_option,
 )
@@ -160,4 +161,4 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     if scored:
         best = max(scored, key=lambda r: r.accuracy)
         confusion_figure(best).savefig(out / f"{stem}-confusion.png", dpi=100)
-    click.echo(f"wrote {out / (stem + '.md')}", err=True)
+    note(f"wrote {out / (stem + '.md')}")

@@ -15,6 +15,7 @@ from .options import (
     files_options,
     finite,
     input_file_option,
+    note,
     parse_angle_rows,
     read_angle_file,
     refuse_unused,
@@ -107,10 +108,9 @@ def builtin_model(n_links: int) -> tuple[Any, dict]:
     if n_links in bundled_links():
         return bundled_predictor(n_links)
     links = ", ".join(map(str, bundled_links()))
-    click.echo(
+    note(
         f"warning: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
-        "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
-        err=True,
+        "reference shapes: train a model for your chain with 'tentaclass train --outlines'"
     )
     return default_model(n_links), {}
 

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import OutputFile, finite, json_option, object_options, placement_options
+from .options import OutputFile, finite, json_option, note, object_options, placement_options
 from .wrap import _outline
 
 if TYPE_CHECKING:
@@ -110,7 +110,6 @@ def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path 
         }))  # fmt: skip
         return
     click.echo(" ".join(f"{a:.10g}" for a in g.angles))
-    note = "" if g.complete else f" (incomplete: {g.reason})"
-    click.echo(f"grasp: {state.state.item()}, {float(state.laps):.2f} laps, offset "
-               f"{int(state.offset_links)} links, {g.sim_time:.2f} s simulated{note}",
-               err=True)  # fmt: skip
+    remark = "" if g.complete else f" (incomplete: {g.reason})"
+    note(f"grasp: {state.state.item()}, {float(state.laps):.2f} laps, offset "
+         f"{int(state.offset_links)} links, {g.sim_time:.2f} s simulated{remark}")  # fmt: skip

@@ -110,8 +110,10 @@ def _warning_line(
     file: Any = None, line: str | None = None,
 ) -> None:  # fmt: skip
     """A warning as one line of stderr, as the errors are (no source line)."""
+    from .options import note
+
     text = " ".join(str(message).split()) or category.__name__
-    click.echo(f"warning: {text}", err=True)
+    note(f"warning: {text}")
 
 
 def main() -> None:

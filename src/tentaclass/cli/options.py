@@ -207,6 +207,15 @@ def finite(ctx, param, value):
     return value
 
 
+def note(message: str) -> None:
+    """A line of information or warning on stderr, left out with ``tentaclass -q``."""
+    ctx = click.get_current_context(silent=True)
+    root = ctx.find_root() if ctx is not None else None
+    if root is not None and isinstance(root.obj, dict) and root.obj.get("quiet"):
+        return
+    click.echo(message, err=True)
+
+
 def given(ctx: click.Context, *names: str) -> list[str]:
     """The options among ``names`` (parameter names) set on the command line, as flags.
 
@@ -403,7 +412,7 @@ def dask_client(address: str | None) -> Iterator[Any]:
     from .._lazy import import_extra
 
     import_extra("distributed", "dask", "--scheduler needs Dask", error=click.ClickException)
-    with scheduler(address, echo=lambda line: click.echo(line, err=True)) as client:
+    with scheduler(address, echo=note) as client:
         yield client
 
 

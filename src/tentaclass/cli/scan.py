@@ -29,6 +29,7 @@ from .options import (
     OutputFile,
     files_options,
     finite,
+    note,
     progress_bar,
     random_state_option,
     refuse_unused,
@@ -341,18 +342,16 @@ def scan(
     }
     if not stats["objects"]:
         how = rule.describe() if rule is not None else "no threshold"
-        click.echo(
+        note(
             f"no object found in {rows} rows ({how}); if the belt is not empty, "
-            "try --polarity or --threshold",
-            err=True,
+            "try --polarity or --threshold"
         )
     if summary == "json":
         click.echo(json.dumps({"summary": result}))
     else:
         classes = ", ".join(f"{k} {v}" for k, v in result["classes"].items()) or "none"
         how = f"; {rule.describe()}" if rule is not None and rule.mode != "binary" else ""
-        click.echo(
+        note(
             f"scanned {rows} rows: {result['objects']} objects, {result['accepted']} accepted, "
-            f"{result['rejected']} rejected ({classes}){how}",
-            err=True,
+            f"{result['rejected']} rejected ({classes}){how}"
         )

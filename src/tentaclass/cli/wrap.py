@@ -14,6 +14,7 @@ from .options import (
     OutputFile,
     finite,
     json_option,
+    note,
     object_options,
     placement_options,
     random_state_option,
@@ -152,7 +153,7 @@ def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path |
         }))  # fmt: skip
         return
     click.echo(" ".join(f"{a:.10g}" for a in w.angles))
-    note = "" if w.complete else " (chain stopped early: no next contact)"
+    remark = "" if w.complete else " (chain stopped early: no next contact)"
     if g is not None:
-        click.echo(f"grasp: {state}, {float(g.laps):.2f} laps, offset {int(g.offset_links)} "
-                   f"links{note}", err=True)  # fmt: skip
+        note(f"grasp: {state}, {float(g.laps):.2f} laps, offset {int(g.offset_links)} "
+             f"links{remark}")  # fmt: skip
