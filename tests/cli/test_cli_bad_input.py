@@ -418,6 +418,8 @@ def test_text_files_with_a_byte_order_mark_are_read(tmp_path):
     r = run("classify", "--file", str(bom), "--json")
     assert r.exit_code == 0, r.output
     assert '"label": "square"' in r.output
+    piped = CliRunner().invoke(cli, ["classify", "--json"], input=bom.read_bytes())
+    assert piped.exit_code == 0 and piped.output == r.output
     train = tmp_path / "train.csv"
     rows = [f"{row},square" if i % 2 else f"{','.join(['pi/8'] * 16)},circle" for i in range(4)]
     train.write_bytes(b"\xef\xbb\xbf" + "\n".join(rows).encode())

@@ -65,7 +65,7 @@ def _read_stdin() -> np.ndarray:
     stream = sys.stdin
     if stream is None or stream.isatty():
         raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
-    lines = stream.read().splitlines()
+    lines = stream.read().removeprefix("\ufeff").splitlines()  # (a byte-order mark)
     if not any(line.split("#", 1)[0].strip() for line in lines):
         raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
     return parse_angle_rows(lines, "standard input")
