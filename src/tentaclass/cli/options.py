@@ -287,7 +287,7 @@ def object_options(verb: str) -> Callable[[_Command], _Command]:
             click.option("--shape", type=click.Choice(["circle", "square", "rectangle",
                          "triangle", "polygon"]), help="Primitive object (default square)."),
             click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' "
-                         "of a rectangle (default 4)."),
+                         "of a rectangle ('W' alone: W by W/3) (default 4)."),
             click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'."),
             input_file_option("--mask", "mask", f"Binary image: {verb} its largest object."),
         ]):  # fmt: skip
