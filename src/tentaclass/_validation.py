@@ -109,6 +109,35 @@ turns (6.588e+06 rad): are these joint angles in radians?
         )
 
 
+def check_total_turn(q: FloatArray, name: str, *, first: int = 0) -> None:
+    """Refuse joint angles that turn more in total than a chain of their length can.
+
+    Each joint turns at most pi either way (a link folded back onto the one
+    before it), so ``n`` angles turn at most ``n * pi``: ``n / 2`` laps. More
+    is a unit mix-up, degrees or milliradians read as radians. ``q`` has shape
+    ``(..., n_joints)``; the message names the first array beyond the bound
+    (row, counted from ``first``).
+
+    >>> square = np.tile([0.0, 0.0, 0.0, 90.0], 4)  # in degrees
+    >>> check_total_turn(square, "q")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: q turns 57.3 laps in total, more than 16 joints can \
+(8 laps, pi each): are these joint angles in radians?
+    """
+    flat = q.reshape(-1, q.shape[-1])
+    n = flat.shape[1]
+    turn = np.abs(flat.sum(axis=1))
+    bad = ~(turn <= n * np.pi * (1 + 1e-9))
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        where = name if q.ndim == 1 else f"{name}: array {first + row}"
+        raise InputError(
+            f"{where} turns {turn[row] / (2 * np.pi):.3g} laps in total, more than {n} joints "
+            f"can ({n / 2:g} laps, pi each): are these joint angles in radians?"
+        )
+
+
 def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int = 2) -> FloatArray:
     """Point array of shape ``(..., n_points, 2)`` with finite values."""
     arr = as_float_array(points, name, min_ndim=2, allow_nonfinite=True)

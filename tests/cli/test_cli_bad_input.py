@@ -449,3 +449,22 @@ def test_a_closed_standard_input_is_one_line(command, message):
     )  # fmt: skip
     assert r.returncode == 1
     assert r.stderr.strip() == message
+
+
+def test_angles_in_degrees_are_refused(tmp_path):
+    # a square in degrees (90 per corner) was a RECTANGLE with probability 1.000
+    degrees = " ".join(["0 0 0 90"] * 4)
+    message = "turns 57.3 laps in total, more than 16 joints can (8 laps, pi each): are these"
+    r = run("classify", degrees)
+    assert r.exit_code == 1 and message in one_line(r)
+    np.save(tmp_path / "deg.npy", np.vstack([np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)] * 2
+                                            + [np.tile([0.0, 0.0, 0.0, 90.0], 4)]))  # fmt: skip
+    r = run("classify", "--files", str(tmp_path / "deg.npy"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 1 and f"deg.npy: array 2 {message}" in one_line(r)
+    data = tmp_path / "train.npz"
+    X = np.vstack([np.tile([0.0, 0.0, 0.0, 90.0], 4), np.full(16, 22.5)])
+    np.savez(data, X=X, y=np.array(["square", "circle"]))
+    r = run("train", "--data", str(data), "--out", str(tmp_path / "m.tcm"))
+    assert r.exit_code == 1 and "train.npz: array 0 turns 57.3 laps" in one_line(r)
+    # a chain folded flat turns exactly n * pi: the bound itself is accepted
+    assert run("classify", " ".join(["pi"] * 16)).exit_code == 0

@@ -21,7 +21,7 @@ import numpy as np
 
 from .._dask import atomic_output, in_slices
 from .._lazy import import_extra
-from .._validation import check_angle_range
+from .._validation import check_angle_range, check_total_turn
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
 from .options import parse_angle_rows, read_angle_file
@@ -183,6 +183,7 @@ def _check_block(src: Path, X: np.ndarray, n_joints: int | None, done: int) -> N
         raise ValueError(f"{src}: array {done + int(np.flatnonzero(bad)[0])} holds NaN or "
                          "infinite angles")  # fmt: skip
     check_angle_range(X, str(src), first=done)
+    check_total_turn(X, str(src), first=done)
 
 
 def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:

@@ -71,9 +71,12 @@ def _read_stdin() -> np.ndarray:
     return parse_angle_rows(lines, "standard input")
 
 
-def _check_wraps(X: np.ndarray) -> None:
-    """Refuse arrays of a chain that turns around nothing (e.g. all zeros)."""
+def _check_wraps(X: np.ndarray, name: str) -> None:
+    """Refuse arrays of a chain that turns around nothing (e.g. all zeros), or too much."""
+    from .._validation import check_total_turn
     from ..wrapping import grasp_state
+
+    check_total_turn(X, name)
 
     laps = np.atleast_1d(grasp_state(X).laps)
     flat = np.flatnonzero(laps < MIN_LAPS)
@@ -176,11 +179,9 @@ def classify(
         X = angles[None, :]
     else:
         X = _read_stdin()
-    X = as_angle_array(
-        X, str(file) if file is not None else "ANGLES" if angles is not None else "stdin",
-        min_joints=3,
-    )  # fmt: skip
-    _check_wraps(X)
+    name = str(file) if file is not None else "ANGLES" if angles is not None else "stdin"
+    X = as_angle_array(X, name, min_joints=3)
+    _check_wraps(X, name)
     if model_file is None:
         model, info = builtin_model(X.shape[1])
         name = "the bundled model"

@@ -12,7 +12,7 @@ from typing import Any
 import click
 import numpy as np
 
-from .._validation import as_angle_array
+from .._validation import as_angle_array, check_total_turn
 from ..io import save_model
 from .options import (
     OutputFile,
@@ -133,6 +133,7 @@ def read_training_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """
     X, y = _read_npz(path) if path.suffix.lower() == ".npz" else _read_csv(path)
     X = as_angle_array(X, str(path), min_joints=3)
+    check_total_turn(X, str(path))
     if y.shape[0] != X.shape[0]:
         raise ValueError(f"{path}: {X.shape[0]} angle arrays but {y.shape[0]} labels")
     if np.unique(y).size < 2:
