@@ -169,6 +169,30 @@ MAX_LINKS = 100_000
 #: Largest size of one array axis read from a file (a row's pixels, rows per chunk).
 MAX_AXIS = 2**31 - 1
 
+#: Most points along one outline or series a function builds (resampled outlines,
+#: polygons, circles, outline series, grids of candidate lengths).
+MAX_POINTS = 1_000_000
+
+#: Most samples (wraps, strokes, objects) one call of a data generator draws.
+MAX_SAMPLES = 1_000_000
+
+#: Most values one generated array may hold (800 MB of float64): samples times links,
+#: objects times pixels.
+MAX_VALUES = 100_000_000
+
+
+def check_total(count: int, what: str, *, maximum: int = MAX_VALUES, unit: str = "values") -> None:
+    """Refuse a product of counts above ``maximum`` (by default :data:`MAX_VALUES`).
+
+    >>> check_total(10**6 * 10**5, "the angles (n_samples x n_links)")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: the angles (n_samples x n_links) would hold \
+100,000,000,000 values, more than the 100,000,000 allowed
+    """
+    if count > maximum:
+        raise InputError(f"{what} would hold {count:,} {unit}, more than the {maximum:,} allowed")
+
 
 def check_positive_int(
     value: object, name: str, *, minimum: int = 1, maximum: int = MAX_INT64

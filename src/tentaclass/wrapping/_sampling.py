@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike
-from .._validation import check_laps, check_positive_float, check_positive_int
+from .._validation import MAX_POINTS, check_laps, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..shapes import as_outline
 from ._api import MAX_LINKS, wrap, wrap_many
@@ -112,7 +112,7 @@ def max_link_length(
     """
     p = as_outline(outline)
     tol = check_positive_float(tolerance, "tolerance")
-    n_grid = check_positive_int(n_grid, "n_grid", minimum=2)
+    n_grid = check_positive_int(n_grid, "n_grid", minimum=2, maximum=MAX_POINTS)
     d = outline_diameter(p)
     grid = np.geomspace(d / 1000, d, n_grid)
     best = None
