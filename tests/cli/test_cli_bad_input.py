@@ -468,3 +468,25 @@ def test_angles_in_degrees_are_refused(tmp_path):
     assert r.exit_code == 1 and "train.npz: array 0 turns 57.3 laps" in one_line(r)
     # a chain folded flat turns exactly n * pi: the bound itself is accepted
     assert run("classify", " ".join(["pi"] * 16)).exit_code == 0
+
+
+@pytest.mark.parametrize("read_first_line", [True, False])
+def test_a_reader_closing_the_pipe_early_ends_the_command_quietly(tmp_path, read_first_line):
+    # `tentaclass classify ... | head -1` ended with "Error: [Errno 32] Broken pipe"
+    import subprocess
+    import sys
+
+    square = np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)
+    rows = 20_000 if read_first_line else 1  # far more output than a pipe buffers
+    np.save(tmp_path / "many.npy", np.tile(square, (rows, 1)))
+    with subprocess.Popen(
+        [sys.executable, "-m", "tentaclass", "classify", "--file", str(tmp_path / "many.npy")],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    ) as proc:  # fmt: skip
+        assert proc.stdout is not None and proc.stderr is not None
+        if read_first_line:
+            assert proc.stdout.readline().split() == [b"index", b"class", b"probability"]
+        proc.stdout.close()  # the reader goes before the command has written all (or any)
+        stderr = proc.stderr.read()
+        assert proc.wait(timeout=120) == 141
+    assert stderr == b""
