@@ -425,6 +425,21 @@ def check_targets(y: ArrayLike) -> None:
         raise _input_error(exc) from None
 
 
+def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted class labels of ``y`` and the index of each sample's class.
+
+    A classifier learns to tell classes apart: one class is refused.
+
+    Raises :class:`~tentaclass.errors.InputError` unless ``y`` holds
+    classification targets of at least two classes.
+    """
+    check_targets(y)
+    classes, y_idx = np.unique(y, return_inverse=True)
+    if classes.size < 2:
+        raise InputError(f"y must hold at least 2 classes, got one class: {classes.tolist()}")
+    return classes, y_idx
+
+
 def _input_error(exc: Exception) -> Exception:
     """``exc`` as an :class:`InputError` with its message (tentaclass errors are kept)."""
     if isinstance(exc, InputError):
