@@ -123,6 +123,7 @@ def _huge_count_calls():
         (lambda: draw_shape("square", (10**6, 10**6), 3.0), "more than the 100,000,000"),
         (lambda: make_belt(10**10), "n_objects must be at most 1,000,000"),
         (lambda: make_belt(1, 10**10), "more than the 100,000,000"),
+        (lambda: make_belt(2, 10**10, lanes=10**10 // 128), "belt image \\(rows x width\\)"),
         (lambda: ScannerModel(n_points=10**10).fit(grids, ["a", "b"]), "n_points must be at most"),
         (lambda: LineScanner(64, latency=10**12), "more than the 100,000,000"),
     ]

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from .._validation import MAX_SAMPLES
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
 from ..wrapping import MAX_LINKS
@@ -88,7 +89,7 @@ def _pair(ctx, param, value):
 @click.option("--copies", type=click.IntRange(min=1, max=10_000), default=1,
               show_default=True,
               help="MPEG-7: wraps per shape; extra ones only train.")  # fmt: skip
-@click.option("--samples", type=click.IntRange(min=8, max=10_000_000), default=400,
+@click.option("--samples", type=click.IntRange(min=8, max=MAX_SAMPLES), default=400,
               show_default=True, help="Synthetic/reference: number of arrays.")  # fmt: skip
 @click.option("--methods", default=DEFAULT_METHODS, show_default=True,
               help=f"Comma-separated, from: {', '.join(METHODS)}.")  # fmt: skip

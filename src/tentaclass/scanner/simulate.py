@@ -398,7 +398,9 @@ def make_belt(
         top = lane_end[lane] + int(rng.randint(gap[0], gap[1] + 1))
         placed.append((top, lane * lane_w, crop))
         lane_end[lane] = top + crop.shape[0]
-    image = np.zeros((int(lane_end.max()) + int(gap[0]) + 1, width), dtype=bool)
+    height = int(lane_end.max()) + int(gap[0]) + 1
+    check_total(height * width, "the belt image (rows x width)")
+    image = np.zeros((height, width), dtype=bool)
     box_rows = []
     for top, left, crop in placed:
         image[top : top + crop.shape[0], left : left + crop.shape[1]] |= crop
