@@ -38,7 +38,7 @@ def one_line(r):
         (["serve", "--port", "-1"], "tentaclass serve", "-1 is not in the range"),
         (["grasp", "--links", "10" * 11], "tentaclass grasp", "at most 496 links (one body nested"),
         (["bench", "--links", "10" * 11], "tentaclass bench", "not in the range 3<=x<=100000"),
-        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=10000000"),
+        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=1000000"),
         (
             ["bench", "--noise", "1e300"],
             "tentaclass bench",
@@ -490,3 +490,12 @@ def test_a_reader_closing_the_pipe_early_ends_the_command_quietly(tmp_path, read
         stderr = proc.stderr.read()
         assert proc.wait(timeout=120) == 141
     assert stderr == b""
+
+
+def test_arrays_longer_than_the_reference_shapes_name_the_limit(tmp_path):
+    n = 1_000_004
+    np.save(tmp_path / "long.npy", np.full((1, n), 2 * np.pi / n))
+    r = run("classify", "--file", str(tmp_path / "long.npy"))
+    assert r.exit_code == 1
+    assert "arrays of 1,000,004 angles are longer than the reference shapes are built for " \
+        "(at most 1,000,000); classify them with --model" in one_line(r)  # fmt: skip

@@ -106,10 +106,16 @@ def builtin_model(n_links: int) -> tuple[Any, dict]:
     >>> info, model.n_features_in_
     ({}, 24)
     """
+    from .._validation import MAX_POINTS
     from ..io._deploy import bundled_links, bundled_predictor
 
     if n_links in bundled_links():
         return bundled_predictor(n_links)
+    if n_links > MAX_POINTS:
+        raise click.ClickException(
+            f"arrays of {n_links:,} angles are longer than the reference shapes are built for "
+            f"(at most {MAX_POINTS:,}); classify them with --model"
+        )
     links = ", ".join(map(str, bundled_links()))
     note(
         f"warning: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
