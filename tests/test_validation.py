@@ -129,6 +129,15 @@ def _huge_count_calls():
     ]
 
 
+def test_an_outline_resamples_to_as_many_points_as_it_has_beyond_the_limit():
+    from tentaclass.geometry import resample_closed
+
+    n = 1_000_010
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    np.testing.assert_allclose(resample_closed(ring, n), ring, atol=1e-9)
+
+
 @pytest.mark.parametrize("index", range(len(_huge_count_calls())))
 def test_huge_counts_are_refused_naming_the_limit(index):
     call, message = _huge_count_calls()[index]

@@ -188,7 +188,8 @@ def resample_closed(points: ArrayLike, n: int) -> FloatArray:
         Vertices of a closed outline (the closing edge back to the first point is
         implied; a repeated first point at the end is harmless).
     n : int
-        Number of output points, from 3 to :data:`MAX_POINTS` (1,000,000).
+        Number of output points, at least 3 and at most 1,000,000 or the
+        outline's own number of points, whichever is larger.
 
     Returns
     -------
@@ -209,7 +210,8 @@ def resample_closed(points: ArrayLike, n: int) -> FloatArray:
            [4., 0.]])
     """
     p = as_points_array(points, "points", min_points=3)
-    n = check_positive_int(n, "n", minimum=3, maximum=MAX_POINTS)
+    # as many points as the outline has are always affordable (a lap of a long chain)
+    n = check_positive_int(n, "n", minimum=3, maximum=max(MAX_POINTS, p.shape[-2]))
     check_total(int(np.prod(p.shape[:-2])) * n * 2, "the resampled outlines")
     scale = _power_of_two_scale(p)  # resampling commutes with scaling: no overflow
     p = p / scale
