@@ -90,3 +90,56 @@ def test_angles_within_the_limit_pass_and_beyond_are_refused():
 def test_an_angle_check_refuses_nan_it_is_given():
     with pytest.raises(InputError, match="holds an angle of nan"):
         check_angle_range(np.r_[np.nan, SQUARE], "q")
+
+
+def _huge_count_calls():
+    from tentaclass import datasets, shapes
+    from tentaclass.features import outline_to_series
+    from tentaclass.geometry import resample_closed
+    from tentaclass.scanner import LineScanner, ScannerModel
+    from tentaclass.scanner.simulate import draw_shape, make_belt, make_objects
+    from tentaclass.wrapping import max_link_length
+
+    sq = shapes.square(4.0)
+    grids = [np.ones((10, 10), bool)] * 2
+    return [
+        (lambda: resample_closed(sq, 10**10), "n must be at most 1,000,000"),
+        (lambda: resample_closed(np.stack([sq] * 200), 10**6), "more than the 100,000,000"),
+        (lambda: outline_to_series(sq, 10**10), "n_points must be at most 1,000,000"),
+        (lambda: shapes.circle(1.0, 10**10), "n_points must be at most 1,000,000"),
+        (lambda: shapes.regular_polygon(10**10, 1.0), "n_sides must be at most 1,000,000"),
+        (lambda: shapes.from_stroke(sq, 10**10), "n_points must be at most 1,000,000"),
+        (lambda: datasets.synthetic_tentacle(10**12), "n_samples must be at most 1,000,000"),
+        (lambda: datasets.synthetic_tentacle(2, 10**12), "n_links must be at most 100,000"),
+        (lambda: datasets.synthetic_tentacle(10**6, 10**5), "more than the 100,000,000"),
+        (lambda: datasets.drawn_shapes(10**10), "n_per_class must be at most 1,000,000"),
+        (lambda: datasets.drawn_shapes(10**6), "more than the 1,000,000 allowed"),
+        (lambda: datasets.reference_tentacle(16, 10**10), "n_starts must be at most 1,000,000"),
+        (lambda: datasets.chain_wraps([sq], 10**10), "n_links must be at most 100,000"),
+        (lambda: datasets.chain_wraps([sq], 16, n_wraps=10**10), "n_wraps must be at most"),
+        (lambda: max_link_length(sq, 0.1, n_grid=10**10), "n_grid must be at most 1,000,000"),
+        (lambda: make_objects(10**10), "n_objects must be at most 1,000,000"),
+        (lambda: make_objects(1, shape=(10**6, 10**6)), "more than the 100,000,000"),
+        (lambda: draw_shape("square", (10**6, 10**6), 3.0), "more than the 100,000,000"),
+        (lambda: make_belt(10**10), "n_objects must be at most 1,000,000"),
+        (lambda: make_belt(1, 10**10), "more than the 100,000,000"),
+        (lambda: make_belt(2, 10**10, lanes=10**10 // 128), "belt image \\(rows x width\\)"),
+        (lambda: ScannerModel(n_points=10**10).fit(grids, ["a", "b"]), "n_points must be at most"),
+        (lambda: LineScanner(64, latency=10**12), "more than the 100,000,000"),
+    ]
+
+
+def test_an_outline_resamples_to_as_many_points_as_it_has_beyond_the_limit():
+    from tentaclass.geometry import resample_closed
+
+    n = 1_000_010
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    np.testing.assert_allclose(resample_closed(ring, n), ring, atol=1e-9)
+
+
+@pytest.mark.parametrize("index", range(len(_huge_count_calls())))
+def test_huge_counts_are_refused_naming_the_limit(index):
+    call, message = _huge_count_calls()[index]
+    with pytest.raises(InputError, match=message):
+        call()

@@ -109,6 +109,35 @@ turns (6.588e+06 rad): are these joint angles in radians?
         )
 
 
+def check_total_turn(q: FloatArray, name: str, *, first: int = 0) -> None:
+    """Refuse joint angles that turn more in total than a chain of their length can.
+
+    Each joint turns at most pi either way (a link folded back onto the one
+    before it), so ``n`` angles turn at most ``n * pi``: ``n / 2`` laps. More
+    is a unit mix-up, degrees or milliradians read as radians. ``q`` has shape
+    ``(..., n_joints)``; the message names the first array beyond the bound
+    (row, counted from ``first``).
+
+    >>> square = np.tile([0.0, 0.0, 0.0, 90.0], 4)  # in degrees
+    >>> check_total_turn(square, "q")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: q turns 57.3 laps in total, more than 16 joints can \
+(8 laps, pi each): are these joint angles in radians?
+    """
+    flat = q.reshape(-1, q.shape[-1])
+    n = flat.shape[1]
+    turn = np.abs(flat.sum(axis=1))
+    bad = ~(turn <= n * np.pi * (1 + 1e-9))
+    if bad.any():
+        row = int(np.flatnonzero(bad)[0])
+        where = name if q.ndim == 1 else f"{name}: array {first + row}"
+        raise InputError(
+            f"{where} turns {turn[row] / (2 * np.pi):.3g} laps in total, more than {n} joints "
+            f"can ({n / 2:g} laps, pi each): are these joint angles in radians?"
+        )
+
+
 def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int = 2) -> FloatArray:
     """Point array of shape ``(..., n_points, 2)`` with finite values."""
     arr = as_float_array(points, name, min_ndim=2, allow_nonfinite=True)
@@ -133,8 +162,36 @@ MAX_NOISE = 2 * np.pi
 #: Largest count the compiled kernels take (a signed 64-bit integer).
 MAX_INT64 = 2**63 - 1
 
+#: Most links a chain may have (and angles a resampled lap): beyond it the arrays no
+#: longer fit a sensible memory.
+MAX_LINKS = 100_000
+
 #: Largest size of one array axis read from a file (a row's pixels, rows per chunk).
 MAX_AXIS = 2**31 - 1
+
+#: Most points along one outline or series a function builds (resampled outlines,
+#: polygons, circles, outline series, grids of candidate lengths).
+MAX_POINTS = 1_000_000
+
+#: Most samples (wraps, strokes, objects) one call of a data generator draws.
+MAX_SAMPLES = 1_000_000
+
+#: Most values one generated array may hold (800 MB of float64): samples times links,
+#: objects times pixels.
+MAX_VALUES = 100_000_000
+
+
+def check_total(count: int, what: str, *, maximum: int = MAX_VALUES, unit: str = "values") -> None:
+    """Refuse a product of counts above ``maximum`` (by default :data:`MAX_VALUES`).
+
+    >>> check_total(10**6 * 10**5, "the angles (n_samples x n_links)")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: the angles (n_samples x n_links) would hold \
+100,000,000,000 values, more than the 100,000,000 allowed
+    """
+    if count > maximum:
+        raise InputError(f"{what} would hold {count:,} {unit}, more than the {maximum:,} allowed")
 
 
 def check_positive_int(
@@ -195,6 +252,27 @@ def check_positive_float(value: object, name: str, *, allow_zero: bool = False) 
         bound = ">= 0" if allow_zero else "> 0"
         raise InputError(f"{name} must be a finite number {bound}, got {value!r}")
     return v
+
+
+def check_one_value(value: ArrayLike, name: str, hint: str = "") -> None:
+    """Refuse an array where one number is expected (a number's errors come later).
+
+    ``hint`` follows the message, e.g. what to use for many values.
+
+    >>> check_one_value([1.0, 2.0], "link_length", " (use wrap_many)")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: link_length must be one number, got 2 values (use wrap_many)
+    """
+    try:
+        ndim = np.ndim(value)
+    except ValueError:  # a ragged sequence
+        ndim = None
+    if ndim == 0 or isinstance(value, (str, bytes)):
+        return
+    size = None if ndim is None else int(np.size(value))
+    count = "a ragged sequence" if size is None else f"{size} value{'' if size == 1 else 's'}"
+    raise InputError(f"{name} must be one number, got {count}{hint}")
 
 
 def check_finite_float(value: object, name: str) -> float:
@@ -304,7 +382,7 @@ def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) 
     try:
         return validate_data(estimator, X, reset=reset, **kwargs)
     except ValueError as exc:
-        raise ragged_error(X, "X", exc) from None
+        raise _input_error(ragged_error(X, "X", exc)) from None
 
 
 def check_fitted_X(estimator: Any, X: ArrayLike) -> FloatArray:
@@ -328,7 +406,45 @@ def check_X_y(
     try:
         return validate_data(estimator, X, y, **kwargs)
     except ValueError as exc:
-        raise ragged_error(X, "X", exc) from None
+        raise _input_error(ragged_error(X, "X", exc)) from None
+
+
+def check_targets(y: ArrayLike) -> None:
+    """scikit-learn's ``check_classification_targets``, raising :class:`InputError`.
+
+    >>> check_targets([0.5, 1.5])
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: Unknown label type: continuous. ...
+    """
+    from sklearn.utils.multiclass import check_classification_targets
+
+    try:
+        check_classification_targets(y)
+    except ValueError as exc:
+        raise _input_error(exc) from None
+
+
+def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted class labels of ``y`` and the index of each sample's class.
+
+    A classifier learns to tell classes apart: one class is refused.
+
+    Raises :class:`~tentaclass.errors.InputError` unless ``y`` holds
+    classification targets of at least two classes.
+    """
+    check_targets(y)
+    classes, y_idx = np.unique(y, return_inverse=True)
+    if classes.size < 2:
+        raise InputError(f"y must hold at least 2 classes, got one class: {classes.tolist()}")
+    return classes, y_idx
+
+
+def _input_error(exc: Exception) -> Exception:
+    """``exc`` as an :class:`InputError` with its message (tentaclass errors are kept)."""
+    if isinstance(exc, InputError):
+        return exc
+    return InputError(str(exc))
 
 
 def check_spread(
@@ -380,11 +496,18 @@ def check_fraction(value: object, name: str) -> float:
 # A chain against an object: what wrap, wrap_many and the physical grasps refuse alike.
 
 
+#: Shortest link, as a fraction of the object's diameter: float64 places joints on
+#: the outline to about 1e-16 of its size, so shorter links lose the object's turns.
+MIN_LINK_FRACTION = 1e-12
+
+
 def check_links_fit(link_lengths: ArrayLike, diameter: float) -> None:
-    """Refuse links longer than the object's diameter: no link could lie on it.
+    """Refuse links longer than the object's diameter, or too short to place on it.
 
     A link rests with both ends on the object (or on the laps of the chain
-    around it), so its length cannot exceed the longest chord of the outline.
+    around it), so its length cannot exceed the longest chord of the outline;
+    a link shorter than ``MIN_LINK_FRACTION`` of the diameter ends where it
+    starts in float64, and the turns at the object's corners are lost.
 
     Examples
     --------
@@ -393,6 +516,11 @@ def check_links_fit(link_lengths: ArrayLike, diameter: float) -> None:
     ...
     tentaclass.errors.InputError: link_length 2.5 is longer than the object's diameter 2: \
 a link must fit between two points of the outline (use link_length <= 2)
+    >>> check_links_fit([1e-20], 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: link_length 1e-20 is too short for an object of diameter 2: \
+below 1e-12 of its size the joints cannot be placed apart (use link_length >= 2e-12)
     """
     ls = np.asarray(link_lengths, dtype=np.float64)
     too_long = ls > diameter
@@ -401,6 +529,14 @@ a link must fit between two points of the outline (use link_length <= 2)
             f"link_length {ls[too_long].flat[0]:g} is longer than the object's diameter "
             f"{diameter:g}: a link must fit between two points of the outline "
             f"(use link_length <= {diameter:g})"
+        )
+    shortest = MIN_LINK_FRACTION * diameter
+    too_short = ls < shortest
+    if np.any(too_short):
+        raise InputError(
+            f"link_length {ls[too_short].flat[0]:g} is too short for an object of diameter "
+            f"{diameter:g}: below {MIN_LINK_FRACTION:g} of its size the joints cannot be placed "
+            f"apart (use link_length >= {shortest:g})"
         )
 
 

@@ -16,7 +16,14 @@ from __future__ import annotations
 import numpy as np
 
 from ._typing import ArrayLike, FloatArray
-from ._validation import as_angle_array, as_float_array, as_points_array, check_positive_int
+from ._validation import (
+    MAX_POINTS,
+    as_angle_array,
+    as_float_array,
+    as_points_array,
+    check_positive_int,
+    check_total,
+)
 from .errors import InputError, ShapeError
 
 __all__ = ["angles_to_points", "points_to_angles", "resample_closed"]
@@ -181,7 +188,8 @@ def resample_closed(points: ArrayLike, n: int) -> FloatArray:
         Vertices of a closed outline (the closing edge back to the first point is
         implied; a repeated first point at the end is harmless).
     n : int
-        Number of output points, at least 3.
+        Number of output points, at least 3 and at most 1,000,000 or the
+        outline's own number of points, whichever is larger.
 
     Returns
     -------
@@ -202,7 +210,9 @@ def resample_closed(points: ArrayLike, n: int) -> FloatArray:
            [4., 0.]])
     """
     p = as_points_array(points, "points", min_points=3)
-    n = check_positive_int(n, "n", minimum=3)
+    # as many points as the outline has are always affordable (a lap of a long chain)
+    n = check_positive_int(n, "n", minimum=3, maximum=max(MAX_POINTS, p.shape[-2]))
+    check_total(int(np.prod(p.shape[:-2])) * n * 2, "the resampled outlines")
     scale = _power_of_two_scale(p)  # resampling commutes with scaling: no overflow
     p = p / scale
     batch = p.shape[:-2]

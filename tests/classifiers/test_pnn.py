@@ -241,6 +241,23 @@ def test_bad_parameters(params, match):
         PNNClassifier(**params).fit([[0.0], [1.0]], [0, 1])
 
 
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda m: m.fit([[0.0], [1.0]], [0]), "inconsistent numbers of samples"),
+        (lambda m: m.fit([[0.0], [1.0]], [0.5, 1.5]), "Unknown label type: continuous"),
+        (lambda m: m.fit([[0.0], [1.0]], None), "requires y to be passed"),
+        (lambda m: m.fit([[0.0], [1.0]], [0, 1]).predict([[0.0, 1.0]]), "X has 2 features"),
+        (lambda m: m.fit([[0.0], [1.0]], [0, 1]).predict(np.zeros((0, 1))), "0 sample"),
+        (lambda m: m.fit([[0.0], [1.0]], [0, 1]).predict([[np.inf]]), "infinity"),
+    ],
+)
+def test_bad_arrays_are_input_errors(call, match):
+    # scikit-learn's checks, with their messages, as errors of tentaclass
+    with pytest.raises(InputError, match=match):
+        call(PNNClassifier())
+
+
 def test_single_class_and_nan_are_refused():
     with pytest.raises(ValueError, match="2 classes"):
         PNNClassifier().fit([[0.0], [1.0]], [0, 0])

@@ -335,3 +335,12 @@ def test_rejection_reads_both_elastic_members_and_older_rules_still_work(model, 
     # without rejection the last laps' outlines are not kept when their weight is 0
     # (it is 0 in the module's default fit)
     assert model.weights_[4] > 0 or len(model.last_heights_) == 0
+
+
+def test_one_class_is_refused():
+    # it fitted, calibrating probabilities and rejection against no other class
+    from tentaclass.errors import InputError
+
+    X = wraps_of(SHAPES["square"], 1.5, 0.0)
+    with pytest.raises(InputError, match="y must hold at least 2 classes, got one class"):
+        TentacleClassifier().fit(X, ["square"] * len(X))

@@ -209,3 +209,22 @@ def test_classify_files_answers_as_classify_without_a_model(tmp_path, n_links):
         assert [a[k] for k in a if k.startswith("p")] == pytest.approx(
             [b[k] for k in b if k.startswith("p")], rel=1e-12
         )
+
+
+@pytest.mark.parametrize(
+    "args, line",
+    [
+        (["wrap"], "grasp: once, 1.00 laps, offset 0 links"),
+        (["classify", "0 0 0 pi/2 0 0 0 pi/2 0 0 0 pi/2 0 0 0 pi/2 0"], "warning: no bundled"),
+        (["scan", "--simulate", "2"], "scanned "),
+    ],
+)
+def test_quiet_leaves_only_errors_on_stderr(args, line):
+    # "-q: Only errors on stderr": the grasp line, warnings and summaries were still shown
+    loud = CliRunner().invoke(cli, args)
+    assert loud.exit_code == 0 and line in loud.stderr
+    quiet = CliRunner().invoke(cli, ["-q", *args])
+    assert quiet.exit_code == 0 and quiet.stderr == ""
+    assert quiet.stdout == loud.stdout
+    error = CliRunner().invoke(cli, ["-q", "classify", "0 0"])
+    assert error.exit_code == 1 and error.stderr.startswith("Error: ANGLES must hold")

@@ -38,7 +38,7 @@ def one_line(r):
         (["serve", "--port", "-1"], "tentaclass serve", "-1 is not in the range"),
         (["grasp", "--links", "10" * 11], "tentaclass grasp", "at most 496 links (one body nested"),
         (["bench", "--links", "10" * 11], "tentaclass bench", "not in the range 3<=x<=100000"),
-        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=10000000"),
+        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=1000000"),
         (
             ["bench", "--noise", "1e300"],
             "tentaclass bench",
@@ -62,6 +62,60 @@ def one_line(r):
             "tentaclass scan",
             "'--write-belt': the folder 'no'",
         ),
+        (
+            ["classify", "--reject-below", "nan", "0 0 0 pi/2"],
+            "tentaclass classify",
+            "'--reject-below': must be a finite number, got nan",
+        ),
+        (["wrap", "--start", "nan"], "tentaclass wrap", "'--start': must be a finite number"),
+        (["wrap", "--offset", "inf"], "tentaclass wrap", "'--offset': must be a finite number"),
+        (["grasp", "--friction", "nan"], "tentaclass grasp", "'--friction': must be a finite"),
+        (["scan", "-", "--contrast", "nan"], "tentaclass scan", "'--contrast': must be a finite"),
+        (
+            ["classify", "--out-dir", "labels", "0 0 0 pi/2"],
+            "tentaclass classify",
+            "--out-dir needs --files",
+        ),
+        (
+            ["classify", "--files", "*.csv", "--out-dir", "labels", "--reject"],
+            "tentaclass classify",
+            "--reject does not go with --files",
+        ),
+        (
+            ["classify", "--files", "*.csv", "--out-dir", "labels", "--json"],
+            "tentaclass classify",
+            "--json does not go with --files",
+        ),
+        (["scan", "-", "--out-dir", "objects"], "tentaclass scan", "--out-dir needs --files"),
+        (
+            ["scan", "-", "--random-state", "3"],
+            "tentaclass scan",
+            "--random-state needs --simulate",
+        ),
+        (
+            ["scan", "--simulate", "2", "--dtype", "uint8"],
+            "tentaclass scan",
+            "--dtype describes an input file; --simulate has none",
+        ),
+        (
+            ["wrap", "--shape", "circle", "--vertices", "0,0 1,0 0,1"],
+            "tentaclass wrap",
+            "--vertices is for --shape polygon or triangle, not circle",
+        ),
+        (
+            ["grasp", "--shape", "polygon", "--vertices", "0,0 1,0 0,1", "--size", "3"],
+            "tentaclass grasp",
+            "give either --size or --vertices, not both",
+        ),
+        # figure formats are checked before any work (they failed after it, scan after
+        # printing every object)
+        (["wrap", "--plot", "w.xyz"], "tentaclass wrap", "'w.xyz': cannot write .xyz; use .eps"),
+        (
+            ["scan", "--simulate", "2", "--annotate", "b.xyz"],
+            "tentaclass scan",
+            "'--annotate': 'b.xyz': cannot write .xyz; use .eps",
+        ),
+        (["grasp", "--gif", "g.png"], "tentaclass grasp", "'g.png': cannot write .png; use .gif"),
     ],
 )
 def test_usage_errors_take_one_line(args, command, message):
@@ -238,7 +292,8 @@ def test_the_script_shows_warnings_on_one_line(tmp_path):
     "args, message",
     [
         (["--laps", "1e300"], "laps: 16 links cannot close 1e+300 laps (at most 8"),
-        (["--diameters", "2,1e300"], "diameters must be at most 1e+100 link lengths"),
+        (["--diameters", "2,1e300"], "diameters must be at most 1e+12 link lengths"),
+        (["--diameters", "1e13,1e14"], "diameters must be at most 1e+12 link lengths (links"),
         (["--noise", "1e300"], "noise must be at most 2*pi radians"),
     ],
 )
@@ -312,3 +367,135 @@ def test_classify_names_ragged_rows(tmp_path):
     assert r.exit_code == 1
     message = f"Error: {tmp_path / 'a.csv'}: rows have different numbers of angles [3, 4]"
     assert one_line(r) == message
+
+
+def test_options_of_the_other_way_to_train_are_refused(tmp_path):
+    data = tmp_path / "train.npz"
+    np.savez(data, X=np.tile([0.0, 0.0, 0.0, np.pi / 2], (4, 4)), y=np.array(["a", "b"] * 2))
+    out = str(tmp_path / "m.tcm")
+    for extra, message in (
+        (["--links", "16"], "--links is for --outlines"),
+        (["--reject-rate", "0.1"], "--reject-rate is for --outlines"),
+        (["--random-state", "1"], "--random-state is for --outlines"),
+    ):
+        r = run("train", "--data", str(data), "--out", out, *extra)
+        assert r.exit_code == 2 and message in one_line(r)
+    for extra, message in (
+        (["--spread", "3"], "--spread is for --data"),
+        (["--no-detrend"], "--detrend/--no-detrend is for --data"),
+        (["--classifier", "rbf"], "--classifier is for --data"),
+    ):
+        r = run("train", "--outlines", str(tmp_path / "*.csv"), "--links", "16", "--out", out,
+                *extra)  # fmt: skip
+        assert r.exit_code == 2 and message in one_line(r)
+    assert not (tmp_path / "m.tcm").exists()
+
+
+@pytest.mark.parametrize("command", [["bench", "--samples", "8"], ["demo"]])
+def test_an_output_folder_that_cannot_be_made_is_refused_before_any_work(tmp_path, command):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    r = run(*command, "--out", str(blocker / "results"))
+    assert r.exit_code == 2
+    line = one_line(r)
+    assert f"cannot create the folder '{blocker / 'results'}'" in line
+    assert "Not a directory" in line
+
+
+def test_files_of_one_folder_sharing_a_name_are_named_as_such(tmp_path):
+    np.save(tmp_path / "log.npy", np.zeros((1, 16)))
+    (tmp_path / "log.csv").write_text("")
+    r = run("classify", "--files", str(tmp_path / "log.*"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 1
+    assert "files share the name 'log' (without their suffix)" in one_line(r)
+
+
+def test_text_files_with_a_byte_order_mark_are_read(tmp_path):
+    # spreadsheets save "CSV UTF-8" with a byte-order mark: it was "'\ufeff0' is not a number"
+    row = ",".join(["0", "0", "0", "pi/2"] * 4)
+    bom = tmp_path / "bom.csv"
+    bom.write_bytes(b"\xef\xbb\xbf" + row.encode() + b"\n")
+    r = run("classify", "--file", str(bom), "--json")
+    assert r.exit_code == 0, r.output
+    assert '"label": "square"' in r.output
+    piped = CliRunner().invoke(cli, ["classify", "--json"], input=bom.read_bytes())
+    assert piped.exit_code == 0 and piped.output == r.output
+    train = tmp_path / "train.csv"
+    rows = [f"{row},square" if i % 2 else f"{','.join(['pi/8'] * 16)},circle" for i in range(4)]
+    train.write_bytes(b"\xef\xbb\xbf" + "\n".join(rows).encode())
+    r = run("train", "--data", str(train), "--out", str(tmp_path / "m.tcm"))
+    assert r.exit_code == 0 and "2 classes (circle, square)" in r.output, r.output
+    latin = tmp_path / "latin.csv"
+    latin.write_bytes(row.encode() + "  # é\n".encode("latin-1"))
+    r = run("classify", "--file", str(latin))
+    assert r.exit_code == 1 and one_line(r) == f"Error: {latin}: not a text file"
+
+
+@pytest.mark.parametrize(
+    "command, message",
+    [
+        (["scan", "-"], "Error: cannot read standard input: it is closed"),  # was a traceback
+        (["classify"], "Error: give either ANGLES or --file, or pipe angle arrays into stdin"),
+    ],
+)
+def test_a_closed_standard_input_is_one_line(command, message):
+    import os
+    import subprocess
+    import sys
+
+    r = subprocess.run(
+        [sys.executable, "-m", "tentaclass", *command],
+        capture_output=True, text=True, timeout=120, preexec_fn=lambda: os.close(0),
+    )  # fmt: skip
+    assert r.returncode == 1
+    assert r.stderr.strip() == message
+
+
+def test_angles_in_degrees_are_refused(tmp_path):
+    # a square in degrees (90 per corner) was a RECTANGLE with probability 1.000
+    degrees = " ".join(["0 0 0 90"] * 4)
+    message = "turns 57.3 laps in total, more than 16 joints can (8 laps, pi each): are these"
+    r = run("classify", degrees)
+    assert r.exit_code == 1 and message in one_line(r)
+    np.save(tmp_path / "deg.npy", np.vstack([np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)] * 2
+                                            + [np.tile([0.0, 0.0, 0.0, 90.0], 4)]))  # fmt: skip
+    r = run("classify", "--files", str(tmp_path / "deg.npy"), "--out-dir", str(tmp_path / "o"))
+    assert r.exit_code == 1 and f"deg.npy: array 2 {message}" in one_line(r)
+    data = tmp_path / "train.npz"
+    X = np.vstack([np.tile([0.0, 0.0, 0.0, 90.0], 4), np.full(16, 22.5)])
+    np.savez(data, X=X, y=np.array(["square", "circle"]))
+    r = run("train", "--data", str(data), "--out", str(tmp_path / "m.tcm"))
+    assert r.exit_code == 1 and "train.npz: array 0 turns 57.3 laps" in one_line(r)
+    # a chain folded flat turns exactly n * pi: the bound itself is accepted
+    assert run("classify", " ".join(["pi"] * 16)).exit_code == 0
+
+
+@pytest.mark.parametrize("read_first_line", [True, False])
+def test_a_reader_closing_the_pipe_early_ends_the_command_quietly(tmp_path, read_first_line):
+    # `tentaclass classify ... | head -1` ended with "Error: [Errno 32] Broken pipe"
+    import subprocess
+    import sys
+
+    square = np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)
+    rows = 20_000 if read_first_line else 1  # far more output than a pipe buffers
+    np.save(tmp_path / "many.npy", np.tile(square, (rows, 1)))
+    with subprocess.Popen(
+        [sys.executable, "-m", "tentaclass", "classify", "--file", str(tmp_path / "many.npy")],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    ) as proc:  # fmt: skip
+        assert proc.stdout is not None and proc.stderr is not None
+        if read_first_line:
+            assert proc.stdout.readline().split() == [b"index", b"class", b"probability"]
+        proc.stdout.close()  # the reader goes before the command has written all (or any)
+        stderr = proc.stderr.read()
+        assert proc.wait(timeout=120) == 141
+    assert stderr == b""
+
+
+def test_arrays_longer_than_the_reference_shapes_name_the_limit(tmp_path):
+    n = 1_000_004
+    np.save(tmp_path / "long.npy", np.full((1, n), 2 * np.pi / n))
+    r = run("classify", "--file", str(tmp_path / "long.npy"))
+    assert r.exit_code == 1
+    assert "arrays of 1,000,004 angles are longer than the reference shapes are built for " \
+        "(at most 1,000,000); classify them with --model" in one_line(r)  # fmt: skip

@@ -240,3 +240,26 @@ def test_wrong_bit_depth_and_bad_threshold(tmp_path):
     assert result.exit_code == 1 and "32-bit float pixels" in result.stderr
     bad = CliRunner().invoke(scan, [str(path), "--threshold", "otsu"])
     assert bad.exit_code == 2 and "--threshold" in bad.stderr
+
+
+def test_files_read_grey_raw_input_as_one_file_does(tmp_path):
+    folder = tmp_path / "belts"
+    folder.mkdir()
+    (folder / "grey.raw").write_bytes(_grey_belt(np.uint8).tobytes())
+    opts = ["--width", "40", "--dtype", "uint8", "--threshold", "100", "--polarity", "dark"]
+    single = CliRunner().invoke(scan, [str(folder / "grey.raw"), *opts])
+    assert single.exit_code == 0, single.output
+    assert [o["label"] for o in _lines(single)] == ["square", "rectangle"]
+    many = CliRunner().invoke(
+        scan, ["--files", str(folder / "*.raw"), "--out-dir", str(tmp_path / "out"), *opts]
+    )
+    assert many.exit_code == 0, many.output
+    assert (tmp_path / "out" / "grey.jsonl").read_text().splitlines() == single.stdout.splitlines()
+    # the threshold is used: one above every grey level finds the whole belt as one object
+    dark = CliRunner().invoke(
+        scan, ["--files", str(folder / "*.raw"), "--out-dir", str(tmp_path / "all"),
+               *opts[:4], "--threshold", "250", "--polarity", "dark"],
+    )  # fmt: skip
+    assert dark.exit_code == 0, dark.output
+    objs = [json.loads(x) for x in (tmp_path / "all" / "grey.jsonl").read_text().splitlines()]
+    assert [o["area"] for o in objs] == [30 * 40]

@@ -70,7 +70,7 @@ def test_both_modes_and_progress():
         ({"noise": -0.1}, "noise"),
         ({"noise": 1e300}, "noise must be at most 2*pi radians"),
         ({"laps": (1.0, 1e300)}, "laps: 16 links cannot close 1e+300 laps (at most 8"),
-        ({"laps": None, "diameters": (2.0, 1e300)}, "diameters must be at most 1e+100 link"),
+        ({"laps": None, "diameters": (2.0, 1e300)}, "diameters must be at most 1e+12 link"),
         ({"mode": "loose"}, "mode"),
         ({"random_state": 1.5}, "random_state"),
         ({"random_state": -1}, "random_state must be at least 0"),

@@ -47,6 +47,24 @@ def test_bad_input():
         last_lap(np.array([1j, 1.0, 1.0, 1.0]))
 
 
+def test_outputs_longer_than_any_chain_are_refused():
+    # a lap resampled to 10**9 angles ran for minutes before running out of memory
+    from tentaclass.errors import InputError
+    from tentaclass.features import LastLap, split_laps
+
+    message = "n_out must be at most 100,000, got 1,000,000,000"
+    with pytest.raises(InputError, match=message):
+        last_lap(SQUARE, n_out=10**9)
+    with pytest.raises(InputError, match=message):
+        LastLap(n_out=10**9).fit(np.atleast_2d(SQUARE))
+    with pytest.raises(InputError, match=message):
+        split_laps(SQUARE, n_out=10**9)
+    assert last_lap(SQUARE, n_out=100_000)[0].shape == (100_000,)
+    # an array longer than any generated chain keeps its own length
+    long = np.full(100_010, 2 * np.pi / 100_010)
+    assert last_lap(long, n_out=100_010)[0].shape == (100_010,)
+
+
 def test_degenerate_closure_falls_back_to_the_open_chain(monkeypatch):
     import tentaclass.features.lap as lap_module
 

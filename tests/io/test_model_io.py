@@ -340,6 +340,26 @@ def _array_spec(meta, attribute):
         ),
         (lambda m: _features_node(m)["params"].update(detrend={"__dict__": 5}), "wrong type"),
         (lambda m: m.update(info=[1]), "info must be an object"),
+        # counts of the wrong type were TypeErrors when predicting
+        (
+            lambda m: _features_node(m)["state"].update(n_features_in_=1.5),
+            "n_features_in_ must be an integer from 1 to 2\\*\\*31 - 1, got 1.5",
+        ),
+        (lambda m: _pnn_node(m)["state"].update(n_features_in_=None), "n_features_in_ must be"),
+        (lambda m: _features_node(m)["state"].update(n_harmonics_=10**30), "n_harmonics_ must be"),
+        # counts that disagree with the arrays after them failed inside predict
+        (
+            lambda m: _features_node(m)["state"].update(n_harmonics_=15),
+            "step 'pnnclassifier' has n_features_in_ 16, but step 'fourierfeatures' gives 15",
+        ),
+        (
+            lambda m: _features_node(m)["state"].update(n_harmonics_=17),
+            "n_harmonics_ is 17, more than the 16 that n_features_in_ 32 angles have",
+        ),
+        (
+            lambda m: m["estimator"]["params"]["steps"][0]["__tuple__"].__setitem__(0, 7),
+            "Pipeline steps must be \\(name, estimator\\) pairs with distinct names",
+        ),
     ],
 )
 def test_bad_metadata(tmp_path, good, edit, match):
@@ -565,3 +585,95 @@ def test_every_estimator_of_the_package_may_be_saved():
     assert own | {"ScannerModel"} <= set(_ALLOWED)
     for name in _ALLOWED:
         assert _allowed_class(name).__name__ == name
+
+
+def _union_node(meta):
+    """The FeatureUnion of a bundled model (the first step of its pipeline)."""
+    return meta["estimator"]["params"]["steps"][0]["__tuple__"][1]["params"]
+
+
+@pytest.mark.parametrize(
+    "edit, match",
+    [
+        (lambda u: u.update(n_jobs=0), "n_jobs must be None or a non-zero int, got 0"),
+        (lambda u: u.update(n_jobs=10**30), "n_jobs must be None or a non-zero int"),
+        (lambda u: u.update(transformer_weights=-1), "transformer_weights must be None or a dict"),
+        (
+            lambda u: u["transformer_list"][0]["__tuple__"].__setitem__(0, -1),
+            "FeatureUnion transformer_list must be \\(name, estimator\\) pairs",
+        ),
+    ],
+)
+def test_bad_feature_union_metadata(tmp_path, edit, match):
+    # scikit-learn checks these only when transforming (ValueError, OverflowError,
+    # AttributeError, TypeError there): the file is refused when read
+    from importlib.resources import files
+
+    bundled = files("tentaclass.data") / "default-16.tcm"
+    bad = rewrite(bundled, tmp_path / "x.tcm", meta_fn=lambda m: edit(_union_node(m)))
+    with pytest.raises(ModelFileError, match=match):
+        load_model(bad)
+
+
+def _mlp():
+    from tentaclass.classifiers import thesis_mlp
+
+    return thesis_mlp(max_iter=5)
+
+
+def _spectrum_scaler_logistic():
+    from sklearn.linear_model import LogisticRegression
+    from sklearn.preprocessing import StandardScaler
+
+    from tentaclass.features import AngleSpectrum
+
+    return make_pipeline(AngleSpectrum(), StandardScaler(), LogisticRegression())
+
+
+def _lap_knn():
+    from sklearn.neighbors import KNeighborsClassifier
+
+    from tentaclass.features import LastLap
+
+    return make_pipeline(LastLap(24), KNeighborsClassifier(1))
+
+
+def _tentacle():
+    from tentaclass.classifiers import TentacleClassifier
+
+    return TentacleClassifier(n_points=16)
+
+
+@pytest.mark.parametrize(
+    "make, path, key, value, match",
+    [
+        # one layer fewer predicted other classes, one more an IndexError
+        (_mlp, (), "n_layers_", 2, "n_layers_ is 2, but the stored arrays are for 3"),
+        (_mlp, (), "n_features_in_", 33, "n_features_in_ is 33, but the stored arrays are for 32"),
+        (_spectrum_scaler_logistic, (1,), "n_features_in_", 18, "n_features_in_ is 18, but"),
+        (_spectrum_scaler_logistic, (2,), "n_features_in_", 16, "n_features_in_ is 16, but"),
+        (_spectrum_scaler_logistic, (0,), "n_harmonics_", 16, "gives 16 features"),
+        (_lap_knn, (0,), "n_out_", 25, "step 'kneighborsclassifier' has n_features_in_ 24, but"),
+        (_lap_knn, (1,), "n_samples_fit_", 17, "n_samples_fit_ is 17, but the stored arrays are"),
+        (_tentacle, ("matcher_",), "n_features_in_", 17, "matcher_ has n_features_in_ 17, but"),
+    ],
+)
+def test_counts_disagreeing_with_the_stored_arrays_are_refused(
+    tmp_path, data, make, path, key, value, match
+):
+    X, y, _ = data
+
+    def edit(meta):
+        node = meta["estimator"]
+        for step in path:
+            if isinstance(step, int):
+                node = node["params"]["steps"][step]["__tuple__"][1]
+            else:
+                node = node["state"][step]
+        assert node["state"][key] != value
+        node["state"][key] = value
+
+    good = save_model(make().fit(X, y), tmp_path / "good.tcm")
+    load_model(good)
+    with pytest.raises(ModelFileError, match=match):
+        load_model(rewrite(good, tmp_path / "x.tcm", meta_fn=edit))

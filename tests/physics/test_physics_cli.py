@@ -62,7 +62,7 @@ def test_json_and_mask(tmp_path):
         (["--offset", "1e300"], "offset 1e+300 is longer than the chain (16 links of 1, 16)"),
         (["--thickness", "1e300"], "thickness 1e+300 is larger than the object (diameter 5.6"),
         (["--links", "1000000"], "MuJoCo builds chains of at most 496 links"),
-        (["--links", "4", "--link-length", "1e-300"], "the object is 4e+300 mean link lengths"),
+        (["--links", "4", "--link-length", "1e-300"], "link_length 1e-300 is too short for an"),
     ],
 )
 def test_errors_are_one_line(args, message):

@@ -101,6 +101,19 @@ def test_binary_rows_with_dark_polarity_take_zeros_as_object():
     assert _summary(got) == ref and scanner.threshold_.mode == "binary"
 
 
+@pytest.mark.parametrize("binary", [np.zeros((3, 16), bool), bytes(16)])
+def test_binary_rows_after_grey_rows_held_for_the_threshold_are_refused(binary):
+    # they were scanned before the held grey rows: every object in the wrong rows
+    grey = np.full((60, 16), 200, dtype=np.uint8)
+    grey[10:20, 4:10] = 20
+    scanner = LineScanner(16)
+    assert scanner.feed(grey) == [] and scanner.threshold_ is None
+    with pytest.raises(InputError, match="row 60: binary rows after 60 grey rows held"):
+        scanner.feed(binary)
+    found = scanner.feed(np.full((5, 16), 200, dtype=np.uint8)) + scanner.close()
+    assert [(o.first_row, o.last_row) for o in found] == [(10, 19)]
+
+
 def test_all_white_belt_finds_nothing_and_says_how():
     img = np.full((50, 40), 255, dtype=np.uint8)
     objs, scanner = _feed(img, [len(img)])

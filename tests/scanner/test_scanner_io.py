@@ -131,3 +131,11 @@ def test_raw_grey_rows_of_any_dtype_and_truncated_stream():
 def test_missing_file():
     with pytest.raises(InputError, match="cannot open"):
         read_belt("/nonexistent/belt.txt")
+
+
+def test_text_with_a_byte_order_mark_is_read():
+    # Notepad's "UTF-8 with BOM": was "line 1 (row 0), column 0: 'ï', expected 0 or 1"
+    belt = read_belt(io.BytesIO(b"\xef\xbb\xbf0110\n0110\n"))
+    np.testing.assert_array_equal(belt, [[0, 1, 1, 0], [0, 1, 1, 0]])
+    with pytest.raises(InputError, match="line 2 \\(row 1\\), column 0: 'ï'"):
+        read_belt(io.BytesIO(b"0110\n\xef\xbb\xbf0110\n"))  # only at the start

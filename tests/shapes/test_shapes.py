@@ -188,6 +188,21 @@ def test_load_mpeg7_skips_unreadable_images_with_a_warning(tmp_path):
     assert len(outlines) == 2
 
 
+def test_read_silhouette_refuses_unreadable_and_oversized_images(tmp_path, monkeypatch):
+    from PIL import Image
+
+    (tmp_path / "junk.png").write_bytes(b"not a png")
+    with pytest.raises(InputError, match=r"junk\.png: cannot read the image \(Unidentified"):
+        shapes.read_silhouette(tmp_path / "junk.png")
+    # beyond Pillow's pixel limit: a DecompressionBombError traceback from tentaclass wrap --mask
+    Image.new("1", (64, 64)).save(tmp_path / "big.png")
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", 1000)
+    with pytest.raises(InputError, match=r"big\.png: cannot read the image \(DecompressionBomb"):
+        shapes.read_silhouette(tmp_path / "big.png")
+    with pytest.raises(FileNotFoundError):
+        shapes.read_silhouette(tmp_path / "missing.png")
+
+
 @pytest.mark.parametrize(
     "points",
     [

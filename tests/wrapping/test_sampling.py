@@ -3,7 +3,13 @@ import pytest
 
 from tentaclass import shapes
 from tentaclass.errors import InputError
-from tentaclass.wrapping import capture_error, closing_link_length, max_link_length, wrap
+from tentaclass.wrapping import (
+    capture_error,
+    closing_link_length,
+    link_length_for_laps,
+    max_link_length,
+    wrap,
+)
 from wrap_checks import MPEG7, needs_mpeg7
 
 
@@ -78,3 +84,13 @@ def test_thin_rectangle_max_link_length_is_the_diameter():
 def test_capture_error_refuses_a_link_too_short_for_memory():
     with pytest.raises(InputError, match=r"link_length .* too short"):
         capture_error(shapes.square(4), 1e-300)
+
+
+@pytest.mark.parametrize("laps", [1e-4, 1e-300])
+def test_link_length_for_laps_refuses_laps_too_small_for_the_chain(laps):
+    # was "n_links must be at most 100,000, got 160,000" (or a number of 300 digits)
+    with pytest.raises(
+        InputError, match=r"laps .* is too small for 16 links: .* use laps >= 0.00016"
+    ):
+        link_length_for_laps(shapes.square(4), 16, laps)
+    assert link_length_for_laps(shapes.square(4), 16, 2e-4) == pytest.approx(16 / 80_000, rel=0.01)

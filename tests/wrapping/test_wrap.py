@@ -289,6 +289,8 @@ def test_every_link_is_placed_where_the_support_offers_none():
         ({"outline": [(0, 0), (4, 0), (4, 4), (2, -1), (0, 4)]}, "intersects itself"),
         ({"link_length": 0.0}, "link_length"),
         ({"link_length": 10.0}, "diameter"),
+        # joints 1e-20 apart coincide in float64: the square's corners turned by 0
+        ({"link_length": 1e-20}, "link_length 1e-20 is too short for an object of diameter 5.65"),
         ({"n_links": 0}, "n_links"),
         ({"start": 1.0}, "start"),
         ({"direction": "up"}, "direction"),
@@ -297,6 +299,11 @@ def test_every_link_is_placed_where_the_support_offers_none():
         ({"offset": -1.0}, "offset"),
         ({"offset": -1.0}, "must be >= 0"),  # was "must lie in >= 0"
         ({"noise": 0.1, "random_state": "x"}, "random_state"),  # was TypeError
+        # one wrap by a chain of equal links: an array of lengths was a batch cut to its first
+        ({"link_length": [1.0, 2.0] * 8}, "link_length must be one number, got 16 values"),
+        ({"link_length": [1.0]}, "link_length must be one number, got 1 value "),
+        ({"start": [0.1, 0.2]}, "start must be one number, got 2 values"),
+        ({"offset": [[0.0], [1.0, 2.0]]}, "offset must be one number, got a ragged sequence"),
     ],
 )
 def test_bad_input(kwargs, match):

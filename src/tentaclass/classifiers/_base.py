@@ -11,28 +11,13 @@ from typing import Self
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
-from sklearn.utils.multiclass import check_classification_targets
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_fitted_X, check_X_y
-from ..errors import InputError
+from .._validation import check_fitted_X, check_X_y, class_indices
 from ._prob_core import ProbabilisticCore, _logsumexp_rows
 
 __all__ = ["BaseProbabilisticClassifier", "_logsumexp_rows", "class_indices"]
-
-
-def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
-    """Sorted class labels of ``y`` and the index of each sample's class.
-
-    Raises :class:`~tentaclass.errors.InputError` unless ``y`` holds
-    classification targets of at least two classes.
-    """
-    check_classification_targets(y)
-    classes, y_idx = np.unique(y, return_inverse=True)
-    if classes.size < 2:
-        raise InputError(f"y must hold at least 2 classes, got one class: {classes.tolist()}")
-    return classes, y_idx
 
 
 class BaseProbabilisticClassifier(ProbabilisticCore, DaskMixin, ClassifierMixin, BaseEstimator):

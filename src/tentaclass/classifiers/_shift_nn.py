@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClassifierMixin
-from sklearn.utils.multiclass import check_classification_targets
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
@@ -13,6 +12,7 @@ from .._validation import (
     check_finite_float,
     check_fitted_X,
     check_frequency_count,
+    check_targets,
     check_X_y,
 )
 from ..errors import InputError
@@ -129,7 +129,7 @@ class ShiftNNClassifier(ShiftCore, DaskMixin, ClassifierMixin, BaseEstimator):
                 f"signal={self.signal!r} needs at least {least} joint angles, "
                 f"got {X.shape[1]} feature(s)"
             )
-        check_classification_targets(y)
+        check_targets(y)
         self.classes_, self.labels_ = np.unique(y, return_inverse=True)
         s = self._signals(X)
         self.weights_ = self._frequency_weights(X.shape[1], np.iscomplexobj(s))

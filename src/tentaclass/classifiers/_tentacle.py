@@ -15,12 +15,11 @@ from sklearn.model_selection import GroupKFold
 from sklearn.neural_network import MLPClassifier
 from sklearn.pipeline import Pipeline, make_pipeline
 from sklearn.preprocessing import StandardScaler
-from sklearn.utils.multiclass import check_classification_targets
 from threadpoolctl import threadpool_limits
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_fitted_X, check_positive_int, check_X_y
+from .._validation import check_fitted_X, check_positive_int, check_X_y, class_indices
 from ..errors import InputError
 from ..features import LapSplit, last_lap, split_laps
 from . import _elastic
@@ -237,6 +236,7 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         X : array_like of shape (n_samples, n_joints)
             Joint angles of wraps, one per row.
         y : array_like of shape (n_samples,)
+            Class labels, at least two classes.
         groups : array_like of shape (n_samples,), optional
             The object each wrap was measured on. Several wraps of one object
             are near copies: with ``groups`` the calibration never matches a
@@ -249,11 +249,10 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         """
         rate = self._check_params()
         Xv, yv = check_X_y(self, X, y, dtype=np.float64)
-        check_classification_targets(yv)
+        self.classes_, y_idx = class_indices(yv)
         groups = np.arange(len(yv)) if groups is None else np.asarray(groups)
         if groups.shape != (len(yv),):
             raise InputError(f"groups must have one entry per wrap ({len(yv)}), got {groups.shape}")
-        self.classes_, y_idx = np.unique(yv, return_inverse=True)
         k = len(self.classes_)
         X3 = _three_or_more(Xv)
         split = split_laps(X3, self.n_points)

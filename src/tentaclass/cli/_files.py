@@ -21,7 +21,7 @@ import numpy as np
 
 from .._dask import atomic_output, in_slices
 from .._lazy import import_extra
-from .._validation import check_angle_range
+from .._validation import check_angle_range, check_total_turn
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
 from .options import parse_angle_rows, read_angle_file
@@ -46,7 +46,7 @@ def expand(pattern: str, suffixes: tuple[str, ...] | None = None) -> list[Path]:
     stems = Counter(p.stem for p in paths)
     twice = sorted(s for s, c in stems.items() if c > 1)
     if twice:
-        raise ValueError(f"files from different folders share the name {twice[0]!r}: "
+        raise ValueError(f"files share the name {twice[0]!r} (without their suffix): "
                          "their outputs would overwrite each other")  # fmt: skip
     return paths
 
@@ -102,7 +102,7 @@ def chain_length(path: Path) -> int | None:
         arr = _npy_file(path)
         return arr.shape[1] if arr.shape[0] else None
     try:
-        with open(path) as fh:
+        with open(path, encoding="utf-8-sig") as fh:
             return parse_angle_rows(fh, str(path), first=True).shape[1] or None
     except UnicodeDecodeError:
         raise ValueError(f"{path}: not a text file") from None
@@ -183,6 +183,7 @@ def _check_block(src: Path, X: np.ndarray, n_joints: int | None, done: int) -> N
         raise ValueError(f"{src}: array {done + int(np.flatnonzero(bad)[0])} holds NaN or "
                          "infinite angles")  # fmt: skip
     check_angle_range(X, str(src), first=done)
+    check_total_turn(X, str(src), first=done)
 
 
 def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:
@@ -195,7 +196,8 @@ def scan_file(src: Path, dst: Path, model: Any, settings: dict) -> dict:
     scanner = None
     with open(src, "rb") as fh, atomic_output(dst) as out:
         for chunk in read_rows(fh, fmt=settings.get("fmt"), width=settings.get("width"),
-                               chunk_rows=settings.get("chunk_rows", 1024)):  # fmt: skip
+                               chunk_rows=settings.get("chunk_rows", 1024),
+                               dtype=settings.get("dtype")):  # fmt: skip
             if scanner is None:
                 w = settings.get("width") or (chunk.shape[1] if isinstance(chunk, np.ndarray)
                                               else None)  # fmt: skip
@@ -282,7 +284,7 @@ def scan_many(opts: dict) -> None:
     """``scan --files`` (optionally ``--scheduler``): the command's options in, files out."""
     import click
 
-    from .options import dask_client
+    from .options import dask_client, note
 
     if opts["files"] is None or opts["file"] is not None or opts["simulate"] is not None:
         raise click.UsageError("--scheduler works with --files GLOB (not FILE or --simulate)")
@@ -291,13 +293,17 @@ def scan_many(opts: dict) -> None:
     from ..scanner import ScannerModel
 
     model = ScannerModel.load(opts["model_file"]) if opts["model_file"] is not None else None
-    keys = ("max_height", "min_area", "nominal_size", "size_tolerance")
+    keys = ("max_height", "min_area", "nominal_size", "size_tolerance", "threshold", "polarity",
+            "contrast")  # fmt: skip
     settings = {"fmt": opts["fmt"], "width": opts["width"], "chunk_rows": opts["chunk_rows"],
-                "scanner": {k: opts[k] for k in keys}}  # fmt: skip
+                "dtype": opts["dtype"], "scanner": {k: opts[k] for k in keys}}  # fmt: skip
     with dask_client(opts["scheduler"]) as client:
         done = scan_files(opts["files"], opts["out_dir"], client, model, settings)
     for s in done:
         line = json.dumps({"summary": s}) if opts["summary"] == "json" else (
             f"{s['file']}: {s['rows']} rows, {s['objects']} objects, {s['accepted']} accepted, "
             f"{s['rejected']} rejected")  # fmt: skip
-        click.echo(line, err=opts["summary"] != "json")
+        if opts["summary"] == "json":
+            click.echo(line)
+        else:
+            note(line)

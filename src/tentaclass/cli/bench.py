@@ -7,10 +7,18 @@ from pathlib import Path
 import click
 import numpy as np
 
+from .._validation import MAX_SAMPLES
 from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
 from ..wrapping import MAX_LINKS
-from .options import dask_client, noise_option, random_state_option, scheduler_option
+from .options import (
+    dask_client,
+    make_folder,
+    noise_option,
+    note,
+    random_state_option,
+    scheduler_option,
+)
 
 DATASETS = ("reference", "synthetic", "mpeg7", "ucr", "ArrowHead", "OSULeaf")
 DEFAULT_METHODS = "tentacle,thesis,shift-nn-lp,lap-shape-nn,1nn-euclidean,svc,minirocket"
@@ -81,7 +89,7 @@ def _pair(ctx, param, value):
 @click.option("--copies", type=click.IntRange(min=1, max=10_000), default=1,
               show_default=True,
               help="MPEG-7: wraps per shape; extra ones only train.")  # fmt: skip
-@click.option("--samples", type=click.IntRange(min=8, max=10_000_000), default=400,
+@click.option("--samples", type=click.IntRange(min=8, max=MAX_SAMPLES), default=400,
               show_default=True, help="Synthetic/reference: number of arrays.")  # fmt: skip
 @click.option("--methods", default=DEFAULT_METHODS, show_default=True,
               help=f"Comma-separated, from: {', '.join(METHODS)}.")  # fmt: skip
@@ -129,6 +137,7 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
                                  param_hint="--methods")  # fmt: skip
     if jobs == 0:
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
+    make_folder(out, "--out")
     with dask_client(scheduler) as client:  # generates the wraps on the cluster
         kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, random_state,
                           jobs, protocol, laps, offset, client, ucr_path, ucr_name)  # fmt: skip
@@ -139,7 +148,6 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     )
     table = results_markdown(results, title)
     click.echo(table)
-    out.mkdir(parents=True, exist_ok=True)
     stem = (
         f"{dataset}-{links}-{mode}-noise{noise:g}" if dataset in ("mpeg7", "synthetic") else dataset
     )
@@ -154,4 +162,4 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
     if scored:
         best = max(scored, key=lambda r: r.accuracy)
         confusion_figure(best).savefig(out / f"{stem}-confusion.png", dpi=100)
-    click.echo(f"wrote {out / (stem + '.md')}", err=True)
+    note(f"wrote {out / (stem + '.md')}")

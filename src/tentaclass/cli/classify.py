@@ -13,9 +13,12 @@ from .options import (
     AngleList,
     dask_client,
     files_options,
+    finite,
     input_file_option,
+    note,
     parse_angle_rows,
     read_angle_file,
+    refuse_unused,
     scheduler_option,
 )
 
@@ -62,15 +65,18 @@ def _read_stdin() -> np.ndarray:
     stream = sys.stdin
     if stream is None or stream.isatty():
         raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
-    lines = stream.read().splitlines()
+    lines = stream.read().removeprefix("\ufeff").splitlines()  # (a byte-order mark)
     if not any(line.split("#", 1)[0].strip() for line in lines):
         raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
     return parse_angle_rows(lines, "standard input")
 
 
-def _check_wraps(X: np.ndarray) -> None:
-    """Refuse arrays of a chain that turns around nothing (e.g. all zeros)."""
+def _check_wraps(X: np.ndarray, name: str) -> None:
+    """Refuse arrays of a chain that turns around nothing (e.g. all zeros), or too much."""
+    from .._validation import check_total_turn
     from ..wrapping import grasp_state
+
+    check_total_turn(X, name)
 
     laps = np.atleast_1d(grasp_state(X).laps)
     flat = np.flatnonzero(laps < MIN_LAPS)
@@ -100,15 +106,20 @@ def builtin_model(n_links: int) -> tuple[Any, dict]:
     >>> info, model.n_features_in_
     ({}, 24)
     """
+    from .._validation import MAX_POINTS
     from ..io._deploy import bundled_links, bundled_predictor
 
     if n_links in bundled_links():
         return bundled_predictor(n_links)
+    if n_links > MAX_POINTS:
+        raise click.ClickException(
+            f"arrays of {n_links:,} angles are longer than the reference shapes are built for "
+            f"(at most {MAX_POINTS:,}); classify them with --model"
+        )
     links = ", ".join(map(str, bundled_links()))
-    click.echo(
+    note(
         f"warning: no bundled model for {n_links} links (bundled: {links}); using the one-lap "
-        "reference shapes: train a model for your chain with 'tentaclass train --outlines'",
-        err=True,
+        "reference shapes: train a model for your chain with 'tentaclass train --outlines'"
     )
     return default_model(n_links), {}
 
@@ -131,6 +142,7 @@ def builtin_model(n_links: int) -> tuple[Any, dict]:
 @click.option(
     "--reject-below",
     type=click.FloatRange(min=0, max=1),
+    callback=finite,
     help="Rejection threshold on the best class score, instead of the model's own.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
@@ -160,8 +172,11 @@ def classify(
     from ..io._deploy import _predict_once
     from ..report import classification_table, table_to_json
 
+    ctx = click.get_current_context()
     if files is not None or scheduler is not None:
+        refuse_unused(ctx, ("reject", "reject_below", "as_json"), "does not go with --files")
         return _many(files, out_dir, model_file, scheduler, angles is not None or file is not None)
+    refuse_unused(ctx, ("out_dir",), "needs --files")
     if angles is not None and file is not None:
         raise click.UsageError("give either ANGLES or --file, not both")
     if file is not None:
@@ -170,11 +185,9 @@ def classify(
         X = angles[None, :]
     else:
         X = _read_stdin()
-    X = as_angle_array(
-        X, str(file) if file is not None else "ANGLES" if angles is not None else "stdin",
-        min_joints=3,
-    )  # fmt: skip
-    _check_wraps(X)
+    name = str(file) if file is not None else "ANGLES" if angles is not None else "stdin"
+    X = as_angle_array(X, name, min_joints=3)
+    _check_wraps(X, name)
     if model_file is None:
         model, info = builtin_model(X.shape[1])
         name = "the bundled model"

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..classifiers import FourierClassifier
 from ..datasets import thesis_tentacle
-from .options import noise_option, random_state_option
+from .options import make_folder, noise_option, random_state_option
 
 
 def perturbed_variants(
@@ -109,6 +109,8 @@ def demo(out: Path, noise: float, random_state: int, no_figures: bool) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    if not no_figures:
+        make_folder(out, "--out")
     console = Console()
     for n_links in (16, 64):
         X, y = thesis_tentacle(n_links, return_X_y=True)
@@ -127,7 +129,6 @@ def demo(out: Path, noise: float, random_state: int, no_figures: bool) -> None:
     if not no_figures:
         from ..plot.features import plot_thesis_panel
 
-        out.mkdir(parents=True, exist_ok=True)
         X, y = thesis_tentacle(16, return_X_y=True)
         for q, name in zip(X, y, strict=True):
             fig = plot_thesis_panel(q, title=f"{name.upper()} (16 links)")

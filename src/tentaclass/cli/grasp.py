@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import OutputFile, json_option, object_options, placement_options
+from .options import OutputFile, finite, json_option, note, object_options, placement_options
 from .wrap import _outline
 
 if TYPE_CHECKING:
@@ -50,15 +50,16 @@ def _save_figures(
 @click.command()
 @object_options("grasp")
 @click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
-@click.option("--link-length", type=click.FloatRange(min=0, min_open=True),
+@click.option("--link-length", type=click.FloatRange(min=0, min_open=True), callback=finite,
               help="Link length (default: the perimeter over the number of links).")  # fmt: skip
 @placement_options
-@click.option("--thickness", type=click.FloatRange(min=0, min_open=True),
+@click.option("--thickness", type=click.FloatRange(min=0, min_open=True), callback=finite,
               help="Link diameter (default a tenth of a link).")  # fmt: skip
-@click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True)
-@click.option("--plot", "plot", type=OutputFile(),
+@click.option("--friction", type=click.FloatRange(min=0), default=0.0, show_default=True,
+              callback=finite)  # fmt: skip
+@click.option("--plot", "plot", type=OutputFile(figure=True),
               help="Save the final pose with its contacts (PNG, PDF, SVG).")  # fmt: skip
-@click.option("--gif", type=OutputFile(),
+@click.option("--gif", type=OutputFile(suffixes=(".gif",)),
               help="Save an animation of the chain closing (GIF).")  # fmt: skip
 @json_option
 def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
@@ -109,7 +110,6 @@ def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path 
         }))  # fmt: skip
         return
     click.echo(" ".join(f"{a:.10g}" for a in g.angles))
-    note = "" if g.complete else f" (incomplete: {g.reason})"
-    click.echo(f"grasp: {state.state.item()}, {float(state.laps):.2f} laps, offset "
-               f"{int(state.offset_links)} links, {g.sim_time:.2f} s simulated{note}",
-               err=True)  # fmt: skip
+    remark = "" if g.complete else f" (incomplete: {g.reason})"
+    note(f"grasp: {state.state.item()}, {float(state.laps):.2f} laps, offset "
+         f"{int(state.offset_links)} links, {g.sim_time:.2f} s simulated{remark}")  # fmt: skip

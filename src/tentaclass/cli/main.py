@@ -1,16 +1,19 @@
 """The ``tentaclass`` command group: options shared by all commands, errors.
 
 Every expected error (bad input, unreadable files) ends as a one-line message
-on stderr and exit code 1 (2 for usage errors), never a traceback.
+on stderr and exit code 1 (2 for usage errors), never a traceback. A reader
+that closes the output early (``tentaclass classify ... | head -1``) ends the
+command quietly, as it ends standard Unix tools: exit code 141, nothing printed.
 """
 
 from __future__ import annotations
 
 import importlib
 import logging
+import os
 import sys
 import warnings
-from typing import Any
+from typing import Any, NoReturn
 
 import click
 
@@ -60,6 +63,8 @@ class _Group(click.Group):
             return super().invoke(ctx)
         except click.UsageError as exc:
             raise _one_line(exc) from None
+        except BrokenPipeError:
+            _stop_writing()
         except (TentaclassError, ValueError, OSError) as exc:
             raise click.ClickException(
                 str(exc).splitlines()[0] if str(exc) else repr(exc)
@@ -110,11 +115,34 @@ def _warning_line(
     file: Any = None, line: str | None = None,
 ) -> None:  # fmt: skip
     """A warning as one line of stderr, as the errors are (no source line)."""
+    from .options import note
+
     text = " ".join(str(message).split()) or category.__name__
-    click.echo(f"warning: {text}", err=True)
+    note(f"warning: {text}")
+
+
+#: Exit code of a command whose reader closed the pipe (128 + SIGPIPE, as a shell reports it).
+EXIT_BROKEN_PIPE = 141
+
+
+def _stop_writing() -> NoReturn:
+    """Stop quietly: the reader of standard output has gone.
+
+    What Python still flushes at exit goes to devnull, and the exit code is
+    that of a tool ended by SIGPIPE.
+    """
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    sys.exit(EXIT_BROKEN_PIPE)
 
 
 def main() -> None:
     """Entry point of the ``tentaclass`` script."""
     warnings.showwarning = _warning_line
-    cli(prog_name="tentaclass")
+    try:
+        try:
+            cli(prog_name="tentaclass")
+        finally:
+            sys.stdout.flush()  # output still buffered meets a closed pipe here
+    except BrokenPipeError:
+        _stop_writing()

@@ -80,6 +80,17 @@ def load_npy(path: Path) -> np.ndarray:
         raise ValueError(f"{path}: not a readable .npy file ({exc})") from exc
 
 
+def read_text(path: Path) -> str:
+    """The text of the file ``path``, UTF-8; ValueError naming the file when it is not text.
+
+    A leading byte-order mark (spreadsheets write one) is dropped.
+    """
+    try:
+        return path.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file") from None
+
+
 def no_rows(source: object) -> ValueError:
     """The error for an angle file or stream without a single angle array."""
     return ValueError(f"{source}: no rows (no angle arrays in it)")
@@ -111,11 +122,7 @@ def read_angle_file(path: Path) -> np.ndarray:
         if arr.size == 0 and (arr.ndim == 1 or arr.shape[0] == 0):
             raise no_rows(path)
         return np.atleast_2d(arr.astype(np.float64))
-    try:
-        lines = path.read_text().splitlines()
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not a text file") from exc
-    return parse_angle_rows(lines, str(path))
+    return parse_angle_rows(read_text(path).splitlines(), str(path))
 
 
 def parse_angle_rows(lines: Iterable[str], source: str, *, first: bool = False) -> np.ndarray:
@@ -154,13 +161,28 @@ class OutputFile(click.Path):
     Checked when the command line is read, before any work is done.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, *, figure: bool = False, suffixes: tuple[str, ...] = ()) -> None:
         super().__init__(dir_okay=False, writable=True, path_type=Path)
+        self.figure = figure
+        self.suffixes = suffixes
 
     def convert(self, value, param, ctx):  # noqa: D102
         path = cast(Path, super().convert(value, param, ctx))
         if not path.absolute().parent.is_dir():
             self.fail(f"the folder {str(path.parent)!r} does not exist", param, ctx)
+        suffix = path.suffix.lower()
+        known = self.suffixes
+        if self.figure and suffix:
+            from matplotlib.backend_bases import FigureCanvasBase
+
+            known = tuple(f".{k}" for k in FigureCanvasBase.get_supported_filetypes())
+        if known and suffix not in known:
+            self.fail(
+                f"{str(path)!r}: cannot write {suffix or 'a file without a suffix'}; "
+                f"use {', '.join(known)}",
+                param,
+                ctx,
+            )
         return path
 
 
@@ -183,6 +205,55 @@ def finite(ctx, param, value):
     if value is not None and not np.isfinite(value):
         raise click.BadParameter(f"must be a finite number, got {value}")
     return value
+
+
+def note(message: str) -> None:
+    """A line of information or warning on stderr, left out with ``tentaclass -q``."""
+    ctx = click.get_current_context(silent=True)
+    root = ctx.find_root() if ctx is not None else None
+    if root is not None and isinstance(root.obj, dict) and root.obj.get("quiet"):
+        return
+    click.echo(message, err=True)
+
+
+def given(ctx: click.Context, *names: str) -> list[str]:
+    """The options among ``names`` (parameter names) set on the command line, as flags.
+
+    An option left at its default is not listed, so a command can refuse
+    options that have no effect in the mode it runs in.
+    """
+    from click.core import ParameterSource
+
+    flags = {p.name: "/".join([p.opts[0], *p.secondary_opts]) for p in ctx.command.params}
+    return [
+        flags[name]
+        for name in names
+        if ctx.get_parameter_source(name) not in (None, ParameterSource.DEFAULT)
+    ]
+
+
+def refuse_unused(ctx: click.Context, names: Iterable[str], why: str) -> None:
+    """A usage error naming the first of ``names`` set on the command line, with ``why``.
+
+    ``why`` completes "--option ...", e.g. ``"needs --files"``.
+    """
+    used = given(ctx, *names)
+    if used:
+        raise click.UsageError(f"{used[0]} {why}")
+
+
+def make_folder(path: Path, option: str) -> Path:
+    """Create the output folder ``path`` (and its parents) before any work is done.
+
+    A folder that cannot be made is a usage error naming ``option`` and the reason.
+    """
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise click.BadParameter(
+            f"cannot create the folder {str(path)!r}: {exc.strerror or exc}", param_hint=option
+        ) from None
+    return path
 
 
 def number_option(
@@ -216,7 +287,7 @@ def object_options(verb: str) -> Callable[[_Command], _Command]:
             click.option("--shape", type=click.Choice(["circle", "square", "rectangle",
                          "triangle", "polygon"]), help="Primitive object (default square)."),
             click.option("--size", help="Square side, circle radius, triangle side, or 'W,H' "
-                         "of a rectangle (default 4)."),
+                         "of a rectangle ('W' alone: W by W/3) (default 4)."),
             click.option("--vertices", help="Polygon or triangle vertices: 'x,y x,y x,y ...'."),
             input_file_option("--mask", "mask", f"Binary image: {verb} its largest object."),
         ]):  # fmt: skip
@@ -230,11 +301,12 @@ def placement_options(func: _Command) -> _Command:
     """Where a chain starts on an object: ``--start``, ``--direction``, ``--offset``."""
     for option in reversed([
         click.option("--start", type=click.FloatRange(0, 1, max_open=True), default=0.0,
-                     show_default=True, help="Start point, fraction of the perimeter."),
+                     show_default=True, callback=finite,
+                     help="Start point, fraction of the perimeter."),
         click.option("--direction", type=click.Choice(["ccw", "cw"]), default="ccw",
                      show_default=True),
         click.option("--offset", type=click.FloatRange(min=0), default=0.0, show_default=True,
-                     help="Distance of the base from the object."),
+                     callback=finite, help="Distance of the base from the object."),
     ]):  # fmt: skip
         func = option(func)
     return func
@@ -340,7 +412,7 @@ def dask_client(address: str | None) -> Iterator[Any]:
     from .._lazy import import_extra
 
     import_extra("distributed", "dask", "--scheduler needs Dask", error=click.ClickException)
-    with scheduler(address, echo=lambda line: click.echo(line, err=True)) as client:
+    with scheduler(address, echo=note) as client:
         yield client
 
 

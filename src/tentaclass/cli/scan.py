@@ -25,7 +25,16 @@ import click
 import numpy as np
 
 from ..errors import TentaclassError
-from .options import OutputFile, files_options, progress_bar, random_state_option, scheduler_option
+from .options import (
+    OutputFile,
+    files_options,
+    finite,
+    note,
+    progress_bar,
+    random_state_option,
+    refuse_unused,
+    scheduler_option,
+)
 
 
 class _CountingReader:
@@ -106,6 +115,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 @click.option(
     "--contrast",
     type=click.FloatRange(min=0, min_open=True),
+    callback=finite,
     help="Least difference from the belt level of an object pixel (default from the data).",
 )
 @click.option(
@@ -131,18 +141,20 @@ def _chunks(source: Any, keep: list | None) -> Any:
 @click.option(
     "--nominal-size",
     type=click.FloatRange(min=0, min_open=True),
+    callback=finite,
     help="Nominal object length in pixels; objects off by more than the tolerance are rejected.",
 )
 @click.option(
     "--size-tolerance",
     type=click.FloatRange(min=0),
+    callback=finite,
     default=0.1,
     show_default=True,
     help="Allowed relative deviation from --nominal-size.",
 )
 @click.option(
     "--annotate",
-    type=OutputFile(),
+    type=OutputFile(figure=True),
     help="Draw the belt with boxes, labels and defect marks to this PNG "
     "(keeps the whole belt in memory).",
 )
@@ -207,14 +219,7 @@ def scan(
     from ..scanner.io import read_rows, write_pbm
     from ..scanner.simulate import make_belt
 
-    if files is not None or scheduler is not None:
-        from ._files import scan_many
-
-        return scan_many(locals())
-    if (file is None) == (simulate is None):
-        raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
-    if write_belt is not None and simulate is None:
-        raise click.UsageError("--write-belt needs --simulate")
+    ctx = click.get_current_context()
     if threshold not in ("auto", "binary", "fixed", "adaptive"):
         try:
             threshold = float(threshold)  # type: ignore[assignment]
@@ -223,6 +228,18 @@ def scan(
                 f"{threshold!r}: a number, auto, binary, fixed or adaptive",
                 param_hint="--threshold",
             ) from None
+    if files is not None or scheduler is not None:
+        from ._files import scan_many
+
+        refuse_unused(ctx, ("random_state", "seed", "write_belt"), "needs --simulate")
+        return scan_many(locals())
+    refuse_unused(ctx, ("out_dir",), "needs --files")
+    if (file is None) == (simulate is None):
+        raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
+    if simulate is None:
+        refuse_unused(ctx, ("random_state", "seed", "write_belt"), "needs --simulate")
+    else:
+        refuse_unused(ctx, ("fmt", "dtype"), "describes an input file; --simulate has none")
     stats: Counter = Counter()
     kept: list | None = [] if annotate is not None else None
     belt_rows: list[np.ndarray] | None = [] if annotate is not None else None
@@ -247,7 +264,10 @@ def scan(
             if file is None:  # excluded above: exactly one of FILE and --simulate
                 raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
             if file == "-":
-                fh: Any = click.open_file("-", "rb")
+                try:
+                    fh: Any = click.open_file("-", "rb")
+                except RuntimeError:  # no standard input at all (closed)
+                    raise TentaclassError("cannot read standard input: it is closed") from None
                 total = None
             else:
                 try:
@@ -322,18 +342,16 @@ def scan(
     }
     if not stats["objects"]:
         how = rule.describe() if rule is not None else "no threshold"
-        click.echo(
+        note(
             f"no object found in {rows} rows ({how}); if the belt is not empty, "
-            "try --polarity or --threshold",
-            err=True,
+            "try --polarity or --threshold"
         )
     if summary == "json":
         click.echo(json.dumps({"summary": result}))
     else:
         classes = ", ".join(f"{k} {v}" for k, v in result["classes"].items()) or "none"
         how = f"; {rule.describe()}" if rule is not None and rule.mode != "binary" else ""
-        click.echo(
+        note(
             f"scanned {rows} rows: {result['objects']} objects, {result['accepted']} accepted, "
-            f"{result['rejected']} rejected ({classes}){how}",
-            err=True,
+            f"{result['rejected']} rejected ({classes}){how}"
         )

@@ -12,11 +12,12 @@ from typing import Any
 import click
 import numpy as np
 
-from .._validation import as_angle_array
+from .._validation import as_angle_array, check_total_turn
 from ..io import save_model
 from .options import (
     OutputFile,
     dask_client,
+    finite,
     input_file_option,
     load_npy,
     number_option,
@@ -24,6 +25,8 @@ from .options import (
     predict_on,
     progress_bar,
     random_state_option,
+    read_text,
+    refuse_unused,
     scheduler_option,
 )
 
@@ -76,10 +79,7 @@ def _read_npz(path: Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _read_csv(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        text = path.read_text()
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a text file") from None
+    text = read_text(path)
     rows: list[list[float]] = []
     labels: list[str] = []
     lines = [(i, line) for i, line in enumerate(text.splitlines(), 1)]
@@ -133,6 +133,7 @@ def read_training_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """
     X, y = _read_npz(path) if path.suffix.lower() == ".npz" else _read_csv(path)
     X = as_angle_array(X, str(path), min_joints=3)
+    check_total_turn(X, str(path))
     if y.shape[0] != X.shape[0]:
         raise ValueError(f"{path}: {X.shape[0]} angle arrays but {y.shape[0]} labels")
     if np.unique(y).size < 2:
@@ -156,10 +157,7 @@ def label_from_name(path: Path) -> str:
 
 def read_labels(path: Path) -> dict[str, str]:
     """``file,label`` rows (a header row ``file,label`` is skipped): file name -> label."""
-    try:
-        text = path.read_text()
-    except UnicodeDecodeError:
-        raise ValueError(f"{path}: not a text file") from None
+    text = read_text(path)
     labels: dict[str, str] = {}
     for lineno, row in enumerate(csv.reader(text.splitlines()), 1):
         row = [f.strip() for f in row]
@@ -192,7 +190,7 @@ def read_outline(path: Path) -> np.ndarray:
         points = load_npy(path)
     else:
         try:
-            rows = [r for r in csv.reader(path.read_text().splitlines()) if r and any(r)]
+            rows = [r for r in csv.reader(read_text(path).splitlines()) if r and any(r)]
             points = np.array([[float(v) for v in r] for r in rows if not r[0].startswith("#")])
         except (ValueError, UnicodeDecodeError):
             raise ValueError(f"{path}: expected 'x,y' rows of numbers") from None
@@ -348,6 +346,7 @@ def train_for_chain(
 @click.option(
     "--reject-rate",
     type=click.FloatRange(0, 1, min_open=True, max_open=True),
+    callback=finite,
     help="With --outlines: train the model to answer 'unknown' for objects unlike every "
     "class, rejecting about this fraction of known ones (e.g. 0.02).",
 )
@@ -425,12 +424,14 @@ def train(
     if (data is None) == (not outlines):
         raise ValueError("give either --data or --outlines")
     if data is not None:
+        refuse_unused(ctx, _FOR_OUTLINES, "is for --outlines; --data trains on measured arrays")
         if n_coeffs is not None:
             if n_harmonics is not None:
                 raise ValueError("give --n-harmonics only, not --n-coeffs as well")
             n_harmonics = n_coeffs
         _train_on_arrays(data, out, classifier, spread, n_harmonics, detrend, scheduler)
         return
+    refuse_unused(ctx, _FOR_DATA, "is for --data; --outlines trains the default recogniser")
     if n_links is None:
         raise ValueError("--outlines needs --links (the chain's number of links)")
     if laps_text is not None and diameters_text is not None:
@@ -468,6 +469,24 @@ def train(
         f"{t['n_samples']} wraps of {n_links} links ({t['n_failed']} failed), held-out "
         f"accuracy {t['held_out_accuracy']:.3f} -> {out}"
     )
+
+
+#: Parameters of ``train`` that only training on outlines uses, and only training on arrays.
+_FOR_OUTLINES = (
+    "labels_file",
+    "n_links",
+    "link_length",
+    "laps_text",
+    "diameters_text",
+    "offset_text",
+    "noise_text",
+    "n_wraps",
+    "mode",
+    "random_state",
+    "seed",
+    "reject_rate",
+)
+_FOR_DATA = ("classifier", "spread", "n_harmonics", "n_coeffs", "detrend", "scheduler")
 
 
 def _train_on_arrays(

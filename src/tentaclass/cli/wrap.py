@@ -14,6 +14,7 @@ from .options import (
     OutputFile,
     finite,
     json_option,
+    note,
     object_options,
     placement_options,
     random_state_option,
@@ -37,8 +38,15 @@ def _outline(
     if mask is not None:
         if shape is not None:
             raise click.UsageError("give either --shape or --mask, not both")
+        if size is not None or vertices is not None:
+            flag = "--size" if size is not None else "--vertices"
+            raise click.UsageError(f"{flag} does not go with --mask (the image gives the object)")
         return shapes.from_mask(shapes.read_silhouette(mask))
     shape = shape or "square"
+    if vertices is not None and shape not in ("polygon", "triangle"):
+        raise click.UsageError(f"--vertices is for --shape polygon or triangle, not {shape}")
+    if vertices is not None and size is not None:
+        raise click.UsageError("give either --size or --vertices, not both")
     if shape in ("polygon", "triangle") and vertices is not None:
         pts = _numbers(vertices, "--vertices") or []
         if len(pts) % 2:
@@ -65,7 +73,7 @@ def _outline(
 @click.command()
 @object_options("wrap")
 @click.option("--links", type=click.IntRange(min=1), default=16, show_default=True)
-@click.option("--link-length", type=float, help="Link length (default 1).")
+@click.option("--link-length", type=float, callback=finite, help="Link length (default 1).")
 @click.option(
     "--laps",
     type=click.FloatRange(min=0, min_open=True),
@@ -74,11 +82,12 @@ def _outline(
 )
 @placement_options
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
-@click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True)
+@click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True,
+              callback=finite)  # fmt: skip
 @click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
-              help="Joint noise standard deviation (radians).")  # fmt: skip
+              callback=finite, help="Joint noise standard deviation (radians).")  # fmt: skip
 @random_state_option("Seed of the noise [default: fresh].", default=None)
-@click.option("--plot", "plot", type=OutputFile(),
+@click.option("--plot", "plot", type=OutputFile(figure=True),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip
 @json_option
 def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path | None,
@@ -144,7 +153,7 @@ def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path |
         }))  # fmt: skip
         return
     click.echo(" ".join(f"{a:.10g}" for a in w.angles))
-    note = "" if w.complete else " (chain stopped early: no next contact)"
+    remark = "" if w.complete else " (chain stopped early: no next contact)"
     if g is not None:
-        click.echo(f"grasp: {state}, {float(g.laps):.2f} laps, offset {int(g.offset_links)} "
-                   f"links{note}", err=True)  # fmt: skip
+        note(f"grasp: {state}, {float(g.laps):.2f} laps, offset {int(g.offset_links)} "
+             f"links{remark}")  # fmt: skip

@@ -8,7 +8,7 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from .._deprecation import UNSET, renamed
-from .._validation import as_generator, check_positive_int
+from .._validation import MAX_SAMPLES, as_generator, check_positive_int, check_total
 from ..errors import InputError
 from ..geometry import resample_closed
 
@@ -174,7 +174,7 @@ def drawn_shapes(
     >>> d.strokes[0].ndim, d.strokes[0].shape[1]
     (2, 2)
     """
-    n_per_class = check_positive_int(n_per_class, "n_per_class")
+    n_per_class = check_positive_int(n_per_class, "n_per_class", maximum=MAX_SAMPLES)
     if classes is None:
         classes = DRAWN_CLASSES
     classes = tuple(classes)
@@ -185,6 +185,12 @@ def drawn_shapes(
         )
     random_state = renamed("random_state", random_state, "seed", seed, default=0)
     rng = as_generator(random_state, allow_none=False)
+    check_total(
+        n_per_class * len(classes),
+        "the strokes (n_per_class x classes)",
+        maximum=MAX_SAMPLES,
+        unit="samples",
+    )
     target = np.repeat(np.array(classes), n_per_class)
     strokes = [_draw_one(str(c), rng) for c in target]
     return Bunch(

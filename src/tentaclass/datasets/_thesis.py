@@ -18,7 +18,7 @@ from .._thesis_data import (
     grid_from_text,
     scanner_training_grids,
 )
-from .._validation import check_positive_int
+from .._validation import MAX_POINTS, MAX_SAMPLES, check_positive_int, check_total
 from ..errors import InputError
 
 __all__ = ["THESIS_CLASSES", "reference_tentacle", "thesis_scanner", "thesis_tentacle"]
@@ -180,8 +180,9 @@ def reference_tentacle(
     """
     from ..geometry import points_to_angles, resample_closed
 
-    n_links = check_positive_int(n_links, "n_links", minimum=3)
-    n_starts = check_positive_int(n_starts, "n_starts")
+    n_links = check_positive_int(n_links, "n_links", minimum=3, maximum=MAX_POINTS)
+    n_starts = check_positive_int(n_starts, "n_starts", maximum=MAX_SAMPLES)
+    check_total(4 * n_starts * n_links, "the angles (4 n_starts x n_links)")
     data, target = [], []
     for name, outline in _reference_outlines().items():
         closed = np.vstack([outline, outline[:1]])

@@ -23,16 +23,19 @@ from .._cache import cache_dir, load_npz, save_npz
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
 from .._validation import (
+    MAX_LINKS,
     MAX_NOISE,
+    MAX_SAMPLES,
+    MIN_LINK_FRACTION,
     check_choice,
     check_laps,
     check_positive_float,
     check_positive_int,
+    check_total,
 )
 from ..errors import InputError
 from ..geometry import angles_to_points
 from ..shapes import circle, load_mpeg7, rectangle, square, triangle
-from ..shapes._outline import _MAX_SPAN
 from ..wrapping import wrap_many
 from ._thesis import THESIS_CLASSES
 
@@ -354,8 +357,9 @@ def synthetic_tentacle(
     """
     offset = renamed("offset", offset, "offset_links", offset_links, default=(0.0, 3.0))
     random_state = renamed("random_state", random_state, "seed", seed, default=0)
-    n_samples = check_positive_int(n_samples, "n_samples")
-    n_links = check_positive_int(n_links, "n_links", minimum=3)
+    n_samples = check_positive_int(n_samples, "n_samples", maximum=MAX_SAMPLES)
+    n_links = check_positive_int(n_links, "n_links", minimum=3, maximum=MAX_LINKS)
+    check_total(n_samples * n_links, "the angles (n_samples x n_links)")
     nlo, nhi = _noise_range(noise)
     laps = _range(laps, "laps", allow_zero=False)
     offset = _range(offset, "offset", allow_zero=True)
@@ -725,8 +729,8 @@ def mpeg7_tentacle(
     """
     offset = renamed("offset", offset, "offset_links", offset_links, default=(0.0, 2.0))
     random_state = renamed("random_state", random_state, "seed", seed, default=0)
-    n_links = check_positive_int(n_links, "n_links", minimum=3)
-    copies = check_positive_int(copies, "copies")
+    n_links = check_positive_int(n_links, "n_links", minimum=3, maximum=MAX_LINKS)
+    copies = check_positive_int(copies, "copies", maximum=MAX_SAMPLES)
     noise = check_positive_float(noise, "noise", allow_zero=True)
     check_choice(mode, "mode", ("taut", "hug"))
     check_choice(protocol, "protocol", PROTOCOLS)
@@ -740,6 +744,7 @@ def mpeg7_tentacle(
         params.update(laps=list(laps), offset=list(offset))
     path = _cache_path(_wrap_cache_key(folder, params))
     n_shapes = len(outlines)
+    check_total(n_shapes * copies * n_links, "the angles (shapes x copies x n_links)")
     stored = load_npz(path, "angles", "laps", "complete", "offset") if cache else None
     if stored is not None:
         angles, got, done, off = stored
@@ -875,9 +880,12 @@ def chain_wraps(
     shapes = [as_outline(o, f"outlines[{i}]") for i, o in enumerate(outlines)]
     if not shapes:
         raise InputError("outlines is empty: give at least one outline")
-    n_links = check_positive_int(n_links, "n_links", minimum=3)
+    n_links = check_positive_int(n_links, "n_links", minimum=3, maximum=MAX_LINKS)
     ell = check_positive_float(link_length, "link_length")
-    n_wraps = check_positive_int(n_wraps, "n_wraps")
+    n_wraps = check_positive_int(n_wraps, "n_wraps", maximum=MAX_SAMPLES)
+    n_total = len(shapes) * n_wraps
+    check_total(n_total, "the wraps (outlines x n_wraps)", maximum=MAX_SAMPLES, unit="samples")
+    check_total(n_total * n_links, "the angles (outlines x n_wraps x n_links)")
     if (laps is None) == (diameters is None):
         raise InputError("give either laps or diameters (the other None)")
     if laps is not None:
@@ -885,10 +893,11 @@ def chain_wraps(
         check_laps(laps[1], n_links)
     if diameters is not None:
         diameters = _range(diameters, "diameters", allow_zero=False)
-        if diameters[1] > _MAX_SPAN:
+        if diameters[1] > 1 / MIN_LINK_FRACTION:
             raise InputError(
-                f"diameters must be at most {_MAX_SPAN:g} link lengths (objects too large to "
-                f"compute with), got {diameters!r}"
+                f"diameters must be at most {1 / MIN_LINK_FRACTION:g} link lengths (links "
+                f"shorter than {MIN_LINK_FRACTION:g} of an object cannot be placed on it), "
+                f"got {diameters!r}"
             )
         if diameters[0] < 1.0:
             raise InputError(

@@ -16,7 +16,7 @@ import numpy as np
 
 from .._dask import blockwise
 from .._typing import ArrayLike, BoolArray, FloatArray
-from .._validation import as_angle_array, check_positive_int
+from .._validation import MAX_LINKS, as_angle_array, check_positive_int
 from ..errors import InputError
 from ..geometry import angles_to_points, points_to_angles, resample_closed
 
@@ -96,7 +96,9 @@ def last_lap(
     """
     q = as_angle_array(q, "q", min_joints=2)
     n = q.shape[-1]
-    n_out = n if n_out is None else check_positive_int(n_out, "n_out", minimum=2)
+    # at most the longest chain, or the input's own length
+    top = max(n, MAX_LINKS)
+    n_out = n if n_out is None else check_positive_int(n_out, "n_out", minimum=2, maximum=top)
     batch = q.shape[:-1]
     flat = q.reshape(-1, n)
     # Clockwise wraps are mirrored (negated) but not reversed: reversing would

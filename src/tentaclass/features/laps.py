@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_angle_array, check_positive_int
+from .._validation import MAX_LINKS, as_angle_array, check_positive_int
 
 __all__ = ["LapSplit", "split_laps"]
 
@@ -196,8 +196,9 @@ def split_laps(q: ArrayLike, n_out: int = 64) -> LapSplit:
     from ..wrapping import grasp_state
 
     q = as_angle_array(q, "q", min_joints=3)
-    n_out = check_positive_int(n_out, "n_out", minimum=3)
     batch, n = q.shape[:-1], q.shape[-1]
+    # at most the longest chain, or the input's own length
+    n_out = check_positive_int(n_out, "n_out", minimum=3, maximum=max(n, MAX_LINKS))
     flat = q.reshape(-1, n)
     flat = np.where(np.isfinite(flat), flat, 0.0)
     g = grasp_state(flat)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_float_array, check_choice, check_positive_int
+from .._validation import MAX_POINTS, as_float_array, check_choice, check_positive_int
 from ..errors import InputError, ShapeError
 from ..geometry import _power_of_two_scale, points_to_angles, resample_closed
 from .turning import periodic_signal
@@ -38,7 +38,7 @@ def outline_to_series(
         :mod:`tentaclass.shapes` return it (``shapes.from_mask(image)`` for a
         silhouette image).
     n_points : int, default=256
-        Length of the series.
+        Length of the series, from 8 to 1,000,000.
     signature : {"centroid", "turning"}, default="centroid"
         ``"centroid"``: distance of each point from the polygon's area centroid,
         divided by its mean (invariant to position, rotation and size).
@@ -60,7 +60,7 @@ def outline_to_series(
     [0.39, -0.39, 0.39, -0.39, 0.39, -0.39, 0.39, -0.39]
     """
     check_choice(signature, "signature", SIGNATURES)
-    n = check_positive_int(n_points, "n_points", minimum=8)
+    n = check_positive_int(n_points, "n_points", minimum=8, maximum=MAX_POINTS)
     pts = as_float_array(outline, "outline", min_ndim=2)
     if pts.ndim != 2 or pts.shape[1] != 2:
         raise ShapeError(f"outline must have shape (n_vertices, 2), got {pts.shape}")

@@ -17,6 +17,7 @@ from .._dask import DaskMixin
 from .._deprecation import DEPRECATED, renamed_attribute, renamed_param
 from .._typing import ArrayLike, FloatArray
 from .._validation import (
+    MAX_LINKS,
     check_finite_float,
     check_fitted_X,
     check_frequency_count,
@@ -197,7 +198,9 @@ class LastLap(LastLapCore, _AngleTransformer):
         X = _check_joint_angles(self, X)
         n = X.shape[1]
         self.n_out_ = (
-            n if self.n_out is None else check_positive_int(self.n_out, "n_out", minimum=2)
+            n
+            if self.n_out is None
+            else check_positive_int(self.n_out, "n_out", minimum=2, maximum=max(n, MAX_LINKS))
         )
         return self
 

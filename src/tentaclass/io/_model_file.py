@@ -562,10 +562,138 @@ def _check_rbf(est: Any) -> None:
         raise ModelFileError("RBF arrays are inconsistent with each other or the classes")
 
 
+def _check_names(steps: object, where: str) -> None:
+    """A Pipeline's steps or a FeatureUnion's transformers: (name, estimator) pairs."""
+    names = [s[0] for s in steps if isinstance(s, tuple) and len(s) == 2] if isinstance(
+        steps, list
+    ) else []  # fmt: skip
+    if (
+        not isinstance(steps, list)
+        or len(names) != len(steps)
+        or not all(isinstance(n, str) and n.isidentifier() for n in names)
+        or len(set(names)) != len(names)
+    ):
+        raise ModelFileError(f"{where} must be (name, estimator) pairs with distinct names")
+
+
+#: How many features a fitted transformer gives, from its state.
+_OUTPUT_WIDTH: dict[str, str] = {
+    "AngleSpectrum": "n_harmonics_",
+    "FourierFeatures": "n_harmonics_",
+    "LastLap": "n_out_",
+    "StandardScaler": "n_features_in_",
+}
+
+
+def _check_pipeline(est: Any) -> None:
+    """Step names, and each fitted step taking as many features as the one before gives."""
+    _check_names(est.steps, "Pipeline steps")
+    for (name_a, a), (name_b, b) in zip(est.steps, est.steps[1:], strict=False):
+        attr = _OUTPUT_WIDTH.get(type(a).__name__)
+        width = getattr(a, attr, None) if attr else None
+        takes = getattr(b, "n_features_in_", None)
+        if width is not None and takes is not None and takes != width:
+            raise ModelFileError(
+                f"step {name_b!r} has n_features_in_ {takes}, but step {name_a!r} gives "
+                f"{width} features ({attr} {width})"
+            )
+
+
+def _check_feature_union(est: Any) -> None:
+    """FeatureUnion's parameters, which scikit-learn checks only when it transforms."""
+    _check_names(est.transformer_list, "FeatureUnion transformer_list")
+    n_jobs, weights = est.n_jobs, est.transformer_weights
+    if n_jobs is not None and (
+        isinstance(n_jobs, bool) or not isinstance(n_jobs, int) or n_jobs == 0
+        or abs(n_jobs) > 2**31 - 1
+    ):  # fmt: skip
+        raise ModelFileError(f"FeatureUnion n_jobs must be None or a non-zero int, got {n_jobs!r}")
+    if weights is not None and not (
+        isinstance(weights, dict)
+        and all(
+            isinstance(w, int | float) and not isinstance(w, bool) and math.isfinite(w)
+            for w in weights.values()
+        )
+    ):
+        raise ModelFileError(
+            f"FeatureUnion transformer_weights must be None or a dict of numbers, got {weights!r}"
+        )
+
+
+def _check_tentacle(est: Any) -> None:
+    """The matchers of a TentacleClassifier compare laps of ``n_points`` angles."""
+    for key in ("matcher_", "exact_"):
+        takes = getattr(getattr(est, key, None), "n_features_in_", None)
+        if takes is not None and takes != est.n_points:
+            raise ModelFileError(
+                f"{key} has n_features_in_ {takes}, but laps have n_points {est.n_points} angles"
+            )
+
+
 _CHECKS: dict[str, Callable[[Any], None]] = {
     "PNNClassifier": _check_pnn,
     "RBFNetworkClassifier": _check_rbf,
+    "TentacleClassifier": _check_tentacle,
 }
+
+#: Checks of estimators whether fitted or not (a FeatureUnion has no fitted state).
+_PARAM_CHECKS: dict[str, Callable[[Any], None]] = {
+    "FeatureUnion": _check_feature_union,
+    "Pipeline": _check_pipeline,
+}
+
+#: Fitted counts that must be integers >= 1 wherever an estimator has them.
+_COUNTS = ("n_features_in_", "n_harmonics_", "n_out_")
+
+_MLP_COUNTS: tuple[tuple[str, Callable[[Any], int]], ...] = (
+    ("n_features_in_", lambda e: e.coefs_[0].shape[0]),
+    ("n_layers_", lambda e: len(e.coefs_) + 1),
+    ("n_outputs_", lambda e: e.coefs_[-1].shape[1]),
+)
+
+#: Fitted counts that the stored arrays fix: count -> its value read from the arrays.
+_SHAPE_COUNTS: dict[str, tuple[tuple[str, Callable[[Any], int]], ...]] = {
+    "FixedEpochsMLPClassifier": _MLP_COUNTS,
+    "KNeighborsClassifier": (
+        ("n_features_in_", lambda e: e._fit_X.shape[1]),
+        ("n_samples_fit_", lambda e: e._fit_X.shape[0]),
+    ),
+    "LogisticRegression": (("n_features_in_", lambda e: e.coef_.shape[1]),),
+    "MLPClassifier": _MLP_COUNTS,
+    "RBFNetworkClassifier": (("n_centers_", lambda e: e.centers_.shape[0]),),
+    "StandardScaler": (
+        ("n_features_in_", lambda e: (e.scale_ if e.mean_ is None else e.mean_).shape[0]),
+    ),
+}
+
+#: Transformers of ``n_features_in_`` angles keep at most ``n_features_in_ // 2 + extra``
+#: harmonics (the rfft's length less the Nyquist term, or all of it).
+_HARMONICS_EXTRA = {"FourierFeatures": 0, "AngleSpectrum": 1}
+
+
+def _check_counts(est: Any) -> None:
+    state = vars(est)
+    for key in _COUNTS:
+        value = state.get(key, 1)
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 2**31 - 1:
+            raise ModelFileError(f"{key} must be an integer from 1 to 2**31 - 1, got {value!r}")
+
+
+def _check_shape_counts(est: Any, name: str) -> None:
+    """Counts of a fitted estimator against the arrays it stores and its input length."""
+    state = vars(est)
+    for key, from_arrays in _SHAPE_COUNTS.get(name, ()):
+        if key in state and state[key] != from_arrays(est):
+            raise ModelFileError(
+                f"{key} is {state[key]}, but the stored arrays are for {from_arrays(est)}"
+            )
+    if name in _HARMONICS_EXTRA and "n_harmonics_" in state and "n_features_in_" in state:
+        top = state["n_features_in_"] // 2 + _HARMONICS_EXTRA[name]
+        if state["n_harmonics_"] > top:
+            raise ModelFileError(
+                f"n_harmonics_ is {state['n_harmonics_']}, more than the {top} that "
+                f"n_features_in_ {state['n_features_in_']} angles have"
+            )
 
 
 def _check_estimator(est: Any, name: str) -> None:
@@ -576,6 +704,10 @@ def _check_estimator(est: Any, name: str) -> None:
     try:
         if hasattr(est, "_parameter_constraints") or own_check:
             est._validate_params()
+        _check_counts(est)
+        _check_shape_counts(est, name)
+        if name in _PARAM_CHECKS:
+            _PARAM_CHECKS[name](est)
         if name in _CHECKS and hasattr(est, "classes_"):
             _CHECKS[name](est)
         rebuild = _DERIVED.get(name, ((), None))[1]

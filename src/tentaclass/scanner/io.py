@@ -106,6 +106,8 @@ def _text_rows(fh: IO[bytes], width: int | None, chunk_rows: int) -> Iterator[np
     chunk: list[np.ndarray] = []
     row = 0
     for lineno, raw in enumerate(io.TextIOWrapper(fh, encoding="latin-1"), 1):
+        if lineno == 1:  # a UTF-8 byte-order mark, as text editors on Windows write
+            raw = raw.removeprefix("\xef\xbb\xbf")
         line = raw.strip()
         if not line or line.startswith("#"):
             continue

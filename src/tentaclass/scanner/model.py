@@ -24,7 +24,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._deprecation import DEPRECATED, renamed_param
 from .._thesis_data import scanner_training_grids
-from .._validation import as_grid_list, check_positive_int
+from .._validation import MAX_POINTS, as_grid_list, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
 from ..features.fourier import _blas_controller
@@ -134,7 +134,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
         for d in desc:
             if d not in DESCRIPTOR_GROUPS:
                 raise InputError(f"descriptors must be among {list(DESCRIPTOR_GROUPS)}, got {d!r}")
-        n_points = check_positive_int(self.n_points, "n_points", minimum=8)
+        n_points = check_positive_int(self.n_points, "n_points", minimum=8, maximum=MAX_POINTS)
         n_harmonics = renamed_param(self, "n_harmonics", "n_coeffs", default=4)
         n_harmonics = check_positive_int(n_harmonics, "n_harmonics")
         if n_harmonics > n_points // 2:

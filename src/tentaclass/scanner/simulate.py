@@ -20,7 +20,7 @@ from sklearn.utils import Bunch, check_random_state
 
 from .._deprecation import UNSET, renamed
 from .._thesis_data import THESIS_CLASSES
-from .._validation import check_positive_float, check_positive_int
+from .._validation import MAX_SAMPLES, check_positive_float, check_positive_int, check_total
 from ..errors import InputError
 
 __all__ = ["DAMAGE_KINDS", "draw_shape", "make_belt", "make_objects", "shape_polygon"]
@@ -135,6 +135,7 @@ def draw_shape(
            [0, 0, 0, 0, 0]])
     """
     rows, cols = (check_positive_int(n, "shape") for n in shape)
+    check_total(rows * cols, "the grid (shape)")
     if center is None:
         center = ((rows - 1) / 2, (cols - 1) / 2)
     grid = np.zeros((rows, cols), dtype=bool)
@@ -281,7 +282,9 @@ def make_objects(
     >>> int(d.damaged.sum())
     4
     """
-    n_objects = check_positive_int(n_objects, "n_objects")
+    n_objects = check_positive_int(n_objects, "n_objects", maximum=MAX_SAMPLES)
+    rows, cols = (check_positive_int(n, "shape") for n in shape)
+    check_total(n_objects * rows * cols, "the grids (n_objects x shape)")
     if not 0.0 <= damaged_fraction <= 1.0:
         raise InputError(f"damaged_fraction must be in [0, 1], got {damaged_fraction!r}")
     for kind in damage_kinds:
@@ -364,7 +367,7 @@ def make_belt(
     >>> b.image.shape[1], b.target.shape, b.boxes.shape
     (64, (3,), (3, 4))
     """
-    n_objects = check_positive_int(n_objects, "n_objects")
+    n_objects = check_positive_int(n_objects, "n_objects", maximum=MAX_SAMPLES)
     width = check_positive_int(width, "width")
     lanes = check_positive_int(lanes, "lanes")
     lane_w = width // lanes
@@ -395,7 +398,9 @@ def make_belt(
         top = lane_end[lane] + int(rng.randint(gap[0], gap[1] + 1))
         placed.append((top, lane * lane_w, crop))
         lane_end[lane] = top + crop.shape[0]
-    image = np.zeros((int(lane_end.max()) + int(gap[0]) + 1, width), dtype=bool)
+    height = int(lane_end.max()) + int(gap[0]) + 1
+    check_total(height * width, "the belt image (rows x width)")
+    image = np.zeros((height, width), dtype=bool)
     box_rows = []
     for top, left, crop in placed:
         image[top : top + crop.shape[0], left : left + crop.shape[1]] |= crop

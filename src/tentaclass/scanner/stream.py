@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import MAX_AXIS, check_positive_int
+from .._validation import MAX_AXIS, check_positive_int, check_total
 from ..errors import InputError
 from . import _segment as seg
 from .defects import DefectSettings
@@ -176,6 +176,7 @@ class LineScanner:
         self.threshold, self.polarity, self.contrast = threshold, polarity, contrast
         self.calibration_rows = check_positive_int(calibration_rows, "calibration_rows")
         self.latency = check_positive_int(latency, "latency", minimum=0)
+        check_total(self.latency * self.width, "the rows held for the latency (latency x width)")
         # with a latency, rows fed one by one are staged and run through the
         # kernel together; objects then wait at most the rest of the latency
         self._stage_rows = max(1, self.latency // 4)
@@ -340,6 +341,11 @@ class LineScanner:
         self._partial = self._next_partial
         if arr.shape[0] == 0:
             return []
+        if binary and self._n_held:
+            raise InputError(
+                f"row {self.rows_seen}: binary rows after {self._n_held} grey rows held to choose "
+                "the threshold: feed one kind of rows per stream"
+            )
         self.rows_seen += arr.shape[0]
         if self.threshold_ is None:
             if binary and self.threshold == "auto":

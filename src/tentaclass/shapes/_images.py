@@ -92,11 +92,24 @@ def read_silhouette(path: str | Path) -> np.ndarray:
     Converts palette images through their palette, thresholds at half the
     maximum value, and takes as object the side that does not cover the border
     (more than 90 % foreground on the border means the file is stored inverted).
+
+    Raises
+    ------
+    tentaclass.errors.InputError
+        The file is not an image Pillow reads, is damaged, or is too large
+        (Pillow's decompression-bomb limit).
+    FileNotFoundError, IsADirectoryError, PermissionError
+        No file to read at ``path``.
     """
     from PIL import Image
 
-    with Image.open(path) as im:
-        gray = np.asarray(im.convert("L"), dtype=float)
+    try:
+        with Image.open(path) as im:
+            gray = np.asarray(im.convert("L"), dtype=float)
+    except (FileNotFoundError, IsADirectoryError, PermissionError):
+        raise
+    except (OSError, ValueError, Image.DecompressionBombError) as exc:
+        raise InputError(f"{path}: cannot read the image ({type(exc).__name__}: {exc})") from None
     top = gray.max()
     mask = gray > top / 2 if top > 0 else np.zeros(gray.shape, bool)
     border = np.concatenate([mask[0], mask[-1], mask[1:-1, 0], mask[1:-1, -1]])

@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_points_array, check_positive_float, check_positive_int
+from .._validation import MAX_POINTS, as_points_array, check_positive_float, check_positive_int
 from ..errors import InputError, ShapeError
 
 __all__ = [
@@ -198,7 +198,7 @@ def regular_polygon(n_sides: int, radius: float) -> FloatArray:
            [-1.,  1.],
            [-1., -1.]])
     """
-    n = check_positive_int(n_sides, "n_sides", minimum=3)
+    n = check_positive_int(n_sides, "n_sides", minimum=3, maximum=MAX_POINTS)
     r = check_positive_float(radius, "radius")
     a = -np.pi / 2 + np.pi / n + 2 * np.pi * np.arange(n) / n
     return r * np.stack([np.cos(a), np.sin(a)], axis=1)
@@ -216,6 +216,6 @@ def circle(radius: float, n_points: int = 256) -> FloatArray:
            [ 0., -1.]])
     """
     r = check_positive_float(radius, "radius")
-    n = check_positive_int(n_points, "n_points", minimum=3)
+    n = check_positive_int(n_points, "n_points", minimum=3, maximum=MAX_POINTS)
     a = 2 * np.pi * np.arange(n) / n
     return r * np.stack([np.cos(a), np.sin(a)], axis=1)

@@ -6,7 +6,7 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_positive_float, check_positive_int
+from .._validation import MAX_POINTS, check_positive_float, check_positive_int
 from ..errors import InputError, ShapeError
 from ..geometry import resample_closed
 from ._outline import as_outline
@@ -72,7 +72,7 @@ def from_stroke(points: ArrayLike, n_points: int = 128, *, smoothing: float = 0.
         The stroke's points in drawing order, as a pointer trace records them:
         unevenly spaced, not quite closed or running past the start.
     n_points : int, default=128
-        Points of the returned outline, equally spaced along it.
+        Points of the returned outline, equally spaced along it (at most 1,000,000).
     smoothing : float, default=0.01
         Standard deviation of the Gaussian smoothing, as a fraction of the
         perimeter (0 turns smoothing off).
@@ -127,7 +127,7 @@ def from_stroke(points: ArrayLike, n_points: int = 128, *, smoothing: float = 0.
         raise ShapeError(f"stroke must have shape (n_points, 2), got shape {p.shape}")
     if not np.all(np.isfinite(p)):
         raise InputError("stroke contains NaN or infinite coordinates")
-    n_points = check_positive_int(n_points, "n_points", minimum=3)
+    n_points = check_positive_int(n_points, "n_points", minimum=3, maximum=MAX_POINTS)
     smoothing = check_positive_float(smoothing, "smoothing", allow_zero=True)
     keep = np.r_[True, np.any(np.diff(p, axis=0) != 0, axis=1)]
     p = p[keep]

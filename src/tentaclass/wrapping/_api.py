@@ -12,7 +12,9 @@ from .. import _dask
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
 from .._validation import (
+    MAX_LINKS,
     check_links_fit,
+    check_one_value,
     check_positive_float,
     check_positive_int,
     check_reach,
@@ -32,8 +34,6 @@ __all__ = ["MAX_LINKS", "Wrap", "WrapBatch", "wrap", "wrap_many"]
 
 _MODES = ("taut", "hug")
 
-#: Most links a chain may have: beyond it the arrays no longer fit a sensible memory.
-MAX_LINKS = 100_000
 #: A stretch of support within this fraction of a link of the outline counts as
 #: resting on the object: links between two joints on it are chords (they may
 #: cut the cap they span) and are not tested for crossing.
@@ -470,6 +470,9 @@ def wrap(
     >>> wrap(square(4), 8, 1.0, offset=2.0).offset_links
     2
     """
+    for name, value in (("link_length", link_length), ("start", start), ("offset", offset)):
+        check_one_value(value, name, " (wrap is one wrap by a chain of equal links; wrap_many "
+                        "takes one value per wrap)")  # fmt: skip
     batch = wrap_many(
         outline, n_links, link_length, start, direction=direction, offset=offset, mode=mode,
         noise=noise, random_state=renamed("random_state", random_state, "seed", seed),

@@ -11,10 +11,10 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike
-from .._validation import check_laps, check_positive_float, check_positive_int
+from .._validation import MAX_POINTS, check_laps, check_positive_float, check_positive_int
 from ..errors import InputError
 from ..shapes import as_outline
-from ._api import wrap, wrap_many
+from ._api import MAX_LINKS, wrap, wrap_many
 from ._surface import outline_diameter
 
 __all__ = ["capture_error", "closing_link_length", "link_length_for_laps", "max_link_length"]
@@ -112,7 +112,7 @@ def max_link_length(
     """
     p = as_outline(outline)
     tol = check_positive_float(tolerance, "tolerance")
-    n_grid = check_positive_int(n_grid, "n_grid", minimum=2)
+    n_grid = check_positive_int(n_grid, "n_grid", minimum=2, maximum=MAX_POINTS)
     d = outline_diameter(p)
     grid = np.geomspace(d / 1000, d, n_grid)
     best = None
@@ -221,6 +221,12 @@ def link_length_for_laps(
     laps = check_positive_float(laps, "laps")
     check_laps(laps, n)
     offset = check_positive_float(offset, "offset", allow_zero=True)
+
+    if n / laps > MAX_LINKS:
+        raise InputError(
+            f"laps {laps:g} is too small for {n} links: one lap would take {n / laps:.4g} links "
+            f"(at most {MAX_LINKS:,}; use laps >= {n / MAX_LINKS:.4g})"
+        )
 
     def closing(links_per_lap: float) -> float:
         n_lap = max(2, round(links_per_lap))
