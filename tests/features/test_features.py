@@ -1,4 +1,5 @@
 import re
+import threading
 
 import numpy as np
 import pytest
@@ -242,3 +243,44 @@ def test_huge_coordinates_give_the_angles_of_the_shape():
     square = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
     for scale in (1e300, 1.7e308, 1e-300):
         np.testing.assert_allclose(points_to_angles(square * scale), np.full(4, np.pi / 2))
+
+
+@pytest.mark.parametrize(
+    "n, kwargs", [(16, {}), (64, {}), (64, {"detrend": True, "n_harmonics": 7})]
+)
+def test_matmul_tiles_on_two_threads_give_the_same_bits_as_on_one(n, kwargs, rng):
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from tentaclass.features.fourier import _TILE_ROWS
+
+    # several tiles and a short last one, a third of them clockwise
+    q = rng.normal(0, 0.3, size=(5 * _TILE_ROWS + 37, n)) + 2 * np.pi / n
+    q[::3] = -q[::3, ::-1]
+    with threadpool_limits(1, user_api="blas"):
+        one = fourier_features(q, method="matmul", **kwargs)
+    with threadpool_limits(2, user_api="blas"):
+        two = fourier_features(q, method="matmul", **kwargs)
+        # the tiles went to a second thread
+        assert any(t.name.startswith("tentaclass-fourier") for t in threading.enumerate())
+        # the BLAS setting is back as the caller made it
+        assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
+    assert np.array_equal(one, two)
+    # row by row, without tiles or threads, the same numbers up to rounding
+    np.testing.assert_allclose(
+        one[::97], [fourier_features(r, method="fft", **kwargs) for r in q[::97]], atol=1e-10
+    )
+
+
+def test_matmul_tiles_called_from_several_threads_at_once(rng):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    qs = [rng.normal(0, 0.3, size=(3000 + 100 * i, 32)) + np.pi / 16 for i in range(4)]
+    expected = [fourier_features(q) for q in qs]
+    with threadpool_limits(2, user_api="blas"), ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(fourier_features, qs * 3))
+        # each call's hold on BLAS ends with the last of them, not before nor never
+        assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
+    for g, e in zip(got, expected * 3, strict=True):
+        assert np.array_equal(g, e)
