@@ -284,3 +284,22 @@ def test_matmul_tiles_called_from_several_threads_at_once(rng):
         assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
     for g, e in zip(got, expected * 3, strict=True):
         assert np.array_equal(g, e)
+
+
+@pytest.mark.parametrize(
+    "bad, match",
+    [
+        (np.nan, r"^q contains 1 NaN or infinite value\(s\)"),
+        (-np.inf, r"^q contains 1 NaN or infinite value\(s\)"),
+        (1e300, r"^q: array 4321 holds an angle of 1e\+300 rad, beyond 2\*\*20 turns"),
+    ],
+)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_bad_angle_deep_in_a_large_batch_is_refused(bad, match, threads, rng):
+    from threadpoolctl import threadpool_limits
+
+    # the matrix-product path checks the values tile by tile, on every thread
+    q = rng.normal(0, 0.3, size=(6000, 64)) + np.pi / 32
+    q[4321, 17] = bad
+    with threadpool_limits(threads, user_api="blas"), pytest.raises(ValueError, match=match):
+        fourier_features(q, method="matmul")

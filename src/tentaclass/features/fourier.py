@@ -26,7 +26,7 @@ from __future__ import annotations
 import os
 import threading
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
 from functools import lru_cache
 from typing import Any
 
@@ -35,7 +35,13 @@ import numpy as np
 from .._dask import blockwise
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_angle_array, check_choice, check_positive_float, check_positive_int
+from .._validation import (
+    as_angle_array,
+    check_angle_values,
+    check_choice,
+    check_positive_float,
+    check_positive_int,
+)
 from ..errors import InputError
 
 __all__ = ["dft_layer", "fourier_features"]
@@ -146,7 +152,15 @@ def _features_matmul(
     period: float,
     canonicalize: bool,
     out: FloatArray,
-) -> None:
+    *,
+    extremes: bool = False,
+) -> tuple[float, float] | None:
+    """Features of the rows of ``q`` into ``out``; with ``extremes``, ``(q.min(), q.max())``.
+
+    With ``extremes`` the values of ``q`` are unchecked (the caller checks the
+    least and greatest, found tile by tile while the tile is in the cache), so
+    NaN, infinity or overflow in the arithmetic are no warning.
+    """
     weights, flipped, offset = _folded_weights(q.shape[1], n_harmonics, detrend, period)
     rows = q.shape[0]
     tile = min(_TILE_ROWS, rows)
@@ -154,15 +168,17 @@ def _features_matmul(
     # (a (2K,) row broadcast over the tile is a loop call per row, three times slower)
     offsets = None if offset is None else np.tile(offset, (tile, 1))
     starts = range(0, rows, _TILE_ROWS)
+    bounds = np.empty((2, len(starts))) if extremes else None
+
+    def work(take: Callable[[], int]) -> None:
+        _matmul_tiles(take, q, weights, flipped, offsets, canonicalize, out, bounds)
+
     if rows < _THREADED_MIN_ROWS:
-        _matmul_tiles(iter(starts).__next__, q, weights, flipped, offsets, canonicalize, out)
-        return
-    with _one_blas_thread() as threads:
-        _run_threads(
-            min(threads, len(starts)),
-            lambda take: _matmul_tiles(take, q, weights, flipped, offsets, canonicalize, out),
-            starts,
-        )
+        _run_threads(1, work, starts)
+    else:
+        with _one_blas_thread() as threads:
+            _run_threads(min(threads, len(starts)), work, starts)
+    return None if bounds is None else (float(bounds[0].min()), float(bounds[1].max()))
 
 
 @lru_cache(maxsize=1)
@@ -259,27 +275,34 @@ def _matmul_tiles(
     offsets: FloatArray | None,
     canonicalize: bool,
     out: FloatArray,
+    bounds: FloatArray | None,
 ) -> None:
-    """Features of the tiles of ``q`` from row ``take()`` on, ``_TILE_ROWS`` rows each."""
+    """Features of the tiles of ``q`` from row ``take()`` on, ``_TILE_ROWS`` rows each.
+
+    With ``bounds`` (2, tiles), the least and greatest angle of each tile too.
+    """
     # one buffer for every tile's product, small enough to stay in the cache
     buf = np.empty((min(_TILE_ROWS, q.shape[0]), weights.shape[1]))
     turns = np.empty(buf.shape[0])
     ones = np.ones(q.shape[1])
-    while True:
-        try:
-            lo = take()
-        except StopIteration:
-            return
-        block = q[lo : lo + _TILE_ROWS]
-        rows = block.shape[0]
-        if canonicalize:
-            cw = np.matmul(block, ones, out=turns[:rows]) < 0
-        z = np.matmul(block, weights, out=buf[:rows])
-        if canonicalize and cw.any():
-            z[cw] = block[cw] @ flipped
-        if offsets is not None:
-            np.subtract(z, offsets[:rows], out=z)
-        _magnitudes(z, out[lo : lo + _TILE_ROWS])
+    with nullcontext() if bounds is None else np.errstate(all="ignore"):
+        while True:
+            try:
+                lo = take()
+            except StopIteration:
+                return
+            block = q[lo : lo + _TILE_ROWS]
+            rows = block.shape[0]
+            if bounds is not None:
+                bounds[:, lo // _TILE_ROWS] = block.min(), block.max()
+            if canonicalize:
+                cw = np.matmul(block, ones, out=turns[:rows]) < 0
+            z = np.matmul(block, weights, out=buf[:rows])
+            if canonicalize and cw.any():
+                z[cw] = block[cw] @ flipped
+            if offsets is not None:
+                np.subtract(z, offsets[:rows], out=z)
+            _magnitudes(z, out[lo : lo + _TILE_ROWS])
 
 
 def _magnitudes(z: FloatArray, out: FloatArray) -> None:
@@ -383,7 +406,8 @@ def fourier_features(
     >>> bool(np.allclose(f, fourier_features(-square[::-1])))
     True
     """
-    q = as_angle_array(q, "q", min_joints=2)
+    # the values are checked below: by the matrix-product kernel's own reading of them
+    q = as_angle_array(q, "q", min_joints=2, check_values=False)
     period = check_positive_float(period, "period")
     n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs)
     n = q.shape[-1]
@@ -401,8 +425,14 @@ def fourier_features(
     batch = q.shape[:-1]
     flat = np.ascontiguousarray(q.reshape(-1, n))
     out = np.empty((flat.shape[0], n_harmonics))
-    kernel = _features_matmul if method == "matmul" else _features_fft
-    kernel(flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
+    args = (flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
+    if method == "matmul":
+        extremes = _features_matmul(*args, extremes=True)
+        assert extremes is not None
+        check_angle_values(q, "q", *extremes)
+    else:
+        check_angle_values(q, "q", float(q.min()), float(q.max()))
+        _features_fft(*args)
     if normalize:
         out /= n
     return out.reshape(*batch, n_harmonics)
