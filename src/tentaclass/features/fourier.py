@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager, nullcontext
 from functools import lru_cache
 from typing import Any
@@ -166,18 +166,20 @@ def _features_matmul(
     tile = min(_TILE_ROWS, rows)
     # the offset repeated over a tile's rows: one contiguous pass takes it off
     # (a (2K,) row broadcast over the tile is a loop call per row, three times slower)
-    offsets = None if offset is None else np.tile(offset, (tile, 1))
+    offsets = None
+    if offset is not None:
+        offsets = np.empty((tile, offset.shape[0]))
+        offsets[:] = offset
     starts = range(0, rows, _TILE_ROWS)
     bounds = np.empty((2, len(starts))) if extremes else None
-
-    def work(take: Callable[[], int]) -> None:
-        _matmul_tiles(take, q, weights, flipped, offsets, canonicalize, out, bounds)
-
+    args = (q, weights, flipped, offsets, canonicalize, out, bounds)
     if rows < _THREADED_MIN_ROWS:
-        _run_threads(1, work, starts)
+        _matmul_tiles(starts, *args)
     else:
         with _one_blas_thread() as threads:
-            _run_threads(min(threads, len(starts)), work, starts)
+            _run_threads(
+                min(threads, len(starts)), lambda tiles: _matmul_tiles(tiles, *args), starts
+            )
     return None if bounds is None else (float(bounds[0].min()), float(bounds[1].max()))
 
 
@@ -240,26 +242,26 @@ def _executor(workers: int) -> Any:
 os.register_at_fork(after_in_child=_executor.cache_clear)
 
 
-def _run_threads(threads: int, work: Callable[[Callable[[], int]], None], starts: range) -> None:
-    """Call ``work(take)`` on ``threads`` threads (this one among them) until ``take`` runs out.
+def _run_threads(threads: int, work: Callable[[Iterable[int]], None], starts: range) -> None:
+    """Call ``work(items)`` on ``threads`` threads (this one among them), sharing ``starts``.
 
-    ``take()`` hands out the next item of ``starts`` and raises StopIteration
-    when none is left: a thread slowed down by other processes takes fewer
-    items, and none waits for it but at the end.
+    Each thread's ``items`` hands out the next item of ``starts`` not yet
+    taken: a thread slowed down by other processes takes fewer, and none
+    waits for it but at the end.
     """
-    items = iter(starts)
     if threads <= 1:
-        work(items.__next__)
+        work(starts)
         return
+    items = iter(starts)
     lock = threading.Lock()
 
-    def take() -> int:
+    def take() -> int | None:
         with lock:
-            return next(items)
+            return next(items, None)
 
-    futures = [_executor(threads - 1).submit(work, take) for _ in range(threads - 1)]
+    futures = [_executor(threads - 1).submit(work, iter(take, None)) for _ in range(threads - 1)]
     try:
-        work(take)
+        work(iter(take, None))
     finally:
         for f in futures:
             # a helper not started yet (its threads busy with another call) is not waited for
@@ -268,7 +270,7 @@ def _run_threads(threads: int, work: Callable[[Callable[[], int]], None], starts
 
 
 def _matmul_tiles(
-    take: Callable[[], int],
+    starts: Iterable[int],
     q: FloatArray,
     weights: FloatArray,
     flipped: FloatArray,
@@ -277,7 +279,7 @@ def _matmul_tiles(
     out: FloatArray,
     bounds: FloatArray | None,
 ) -> None:
-    """Features of the tiles of ``q`` from row ``take()`` on, ``_TILE_ROWS`` rows each.
+    """Features of the tiles of ``q`` from the rows ``starts`` on, ``_TILE_ROWS`` rows each.
 
     With ``bounds`` (2, tiles), the least and greatest angle of each tile too.
     """
@@ -286,11 +288,7 @@ def _matmul_tiles(
     turns = np.empty(buf.shape[0])
     ones = np.ones(q.shape[1])
     with nullcontext() if bounds is None else np.errstate(all="ignore"):
-        while True:
-            try:
-                lo = take()
-            except StopIteration:
-                return
+        for lo in starts:
             block = q[lo : lo + _TILE_ROWS]
             rows = block.shape[0]
             if bounds is not None:
@@ -298,7 +296,7 @@ def _matmul_tiles(
             if canonicalize:
                 cw = np.matmul(block, ones, out=turns[:rows]) < 0
             z = np.matmul(block, weights, out=buf[:rows])
-            if canonicalize and cw.any():
+            if canonicalize and np.count_nonzero(cw):  # (ndarray.any costs a Python call)
                 z[cw] = block[cw] @ flipped
             if offsets is not None:
                 np.subtract(z, offsets[:rows], out=z)
@@ -426,13 +424,13 @@ def fourier_features(
     flat = np.ascontiguousarray(q.reshape(-1, n))
     out = np.empty((flat.shape[0], n_harmonics))
     args = (flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
-    if method == "matmul":
+    if method == "matmul" and flat.shape[0] > _TILE_ROWS:
         extremes = _features_matmul(*args, extremes=True)
         assert extremes is not None
         check_angle_values(q, "q", *extremes)
     else:
         check_angle_values(q, "q", float(q.min()), float(q.max()))
-        _features_fft(*args)
+        (_features_matmul if method == "matmul" else _features_fft)(*args)
     if normalize:
         out /= n
     return out.reshape(*batch, n_harmonics)
