@@ -1,5 +1,4 @@
 import re
-import threading
 
 import numpy as np
 import pytest
@@ -246,24 +245,33 @@ def test_huge_coordinates_give_the_angles_of_the_shape():
 
 
 @pytest.mark.parametrize(
-    "n, kwargs", [(16, {}), (64, {}), (64, {"detrend": True, "n_harmonics": 7})]
+    "n, kwargs", [(16, {}), (64, {}), (64, {"detrend": True, "n_harmonics": 7}), (128, {})]
 )
-def test_matmul_tiles_on_two_threads_give_the_same_bits_as_on_one(n, kwargs, rng):
+def test_matmul_tiles_on_two_threads_give_the_same_bits_as_on_one(n, kwargs, rng, monkeypatch):
     from threadpoolctl import threadpool_info, threadpool_limits
 
-    from tentaclass.features.fourier import _TILE_ROWS
+    from tentaclass.features import fourier
 
+    # any batch of several tiles goes to two threads (but short chains: one)
+    monkeypatch.setattr(fourier, "_THREADED_MIN_WORK", 0)
+    threads_used = []
+
+    def spy(threads, work, starts):
+        threads_used.append(threads)
+        run_threads(threads, work, starts)
+
+    run_threads = fourier._run_threads
+    monkeypatch.setattr(fourier, "_run_threads", spy)
     # several tiles and a short last one, a third of them clockwise
-    q = rng.normal(0, 0.3, size=(5 * _TILE_ROWS + 37, n)) + 2 * np.pi / n
+    q = rng.normal(0, 0.3, size=(5 * fourier._TILE_ROWS + 37, n)) + 2 * np.pi / n
     q[::3] = -q[::3, ::-1]
     with threadpool_limits(1, user_api="blas"):
         one = fourier_features(q, method="matmul", **kwargs)
     with threadpool_limits(2, user_api="blas"):
         two = fourier_features(q, method="matmul", **kwargs)
-        # the tiles went to a second thread
-        assert any(t.name.startswith("tentaclass-fourier") for t in threading.enumerate())
         # the BLAS setting is back as the caller made it
         assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
+    assert threads_used == [1, 1 if n <= fourier._ONE_THREAD_MAX_JOINTS else 2]
     assert np.array_equal(one, two)
     # row by row, without tiles or threads, the same numbers up to rounding
     np.testing.assert_allclose(
@@ -276,7 +284,7 @@ def test_matmul_tiles_called_from_several_threads_at_once(rng):
 
     from threadpoolctl import threadpool_info, threadpool_limits
 
-    qs = [rng.normal(0, 0.3, size=(3000 + 100 * i, 32)) + np.pi / 16 for i in range(4)]
+    qs = [rng.normal(0, 0.3, size=(9000 + 100 * i, 64)) + np.pi / 32 for i in range(4)]
     expected = [fourier_features(q) for q in qs]
     with threadpool_limits(2, user_api="blas"), ThreadPoolExecutor(4) as pool:
         got = list(pool.map(fourier_features, qs * 3))
@@ -295,10 +303,13 @@ def test_matmul_tiles_called_from_several_threads_at_once(rng):
     ],
 )
 @pytest.mark.parametrize("threads", [1, 2])
-def test_bad_angle_deep_in_a_large_batch_is_refused(bad, match, threads, rng):
+def test_bad_angle_deep_in_a_large_batch_is_refused(bad, match, threads, rng, monkeypatch):
     from threadpoolctl import threadpool_limits
 
+    from tentaclass.features import fourier
+
     # the matrix-product path checks the values tile by tile, on every thread
+    monkeypatch.setattr(fourier, "_THREADED_MIN_WORK", 0)
     q = rng.normal(0, 0.3, size=(6000, 64)) + np.pi / 32
     q[4321, 17] = bad
     with threadpool_limits(threads, user_api="blas"), pytest.raises(ValueError, match=match):

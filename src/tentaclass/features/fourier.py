@@ -17,8 +17,9 @@ set to; set them with threadpoolctl, e.g. ``with threadpool_limits(1,
 user_api="blas"):``. It cuts a batch into tiles of ``_TILE_ROWS`` rows, small
 enough that a tile's product stays in the core's cache while its magnitudes
 are taken, and hands the tiles out to that many threads, each running BLAS on
-one thread. The tiles are the same whatever the number of threads, and so
-are the results, to the bit.
+one thread. Chains of up to 32 joints, and batches too small to pay for a
+second thread, run on one. The tiles are the same whatever the number of
+threads, and so are the results, to the bit.
 """
 
 from __future__ import annotations
@@ -53,11 +54,24 @@ MATMUL_MAX_JOINTS = 128
 #: Rows per block of the FFT path: bounds its temporaries.
 _BLOCK_ROWS = 16384
 
-#: Rows per tile of the matrix-product path. A tile's product (1024 x 64 doubles
-#: at n = 64, 512 KiB) stays in the core's L2 cache while its magnitudes are
-#: taken, and a product of 1024 rows is as fast per row on one BLAS thread as
-#: one of 16384 (measured for n = 16 to 128 with benchmarks/bench_fourier.py).
+#: Rows per tile of the matrix-product path. A tile's angles and product (1024 x 64
+#: doubles each at n = 64, 512 KiB) stay in the core's L2 cache from the first
+#: reading to the magnitudes, and a product of 1024 rows is as fast per row on one
+#: BLAS thread as one of 16384. Measured for n = 16, 64 and 128: tiles of 512 to
+#: 2048 rows took within a few per cent of each other, 4096 and more up to a fifth
+#: longer at n = 16.
 _TILE_ROWS = 1024
+
+#: Chains up to this many joints run on one thread whatever the setting: a tile's
+#: product is thin, and NumPy's calls and the handing of the GIL from thread to
+#: thread cost more than a second thread gains (0.7-0.99 x at n = 16, 0.94 x at
+#: n = 32, measured with 131 072 and 65 536 arrays).
+_ONE_THREAD_MAX_JOINTS = 32
+
+#: A batch whose product has fewer multiply-adds than this runs on one thread:
+#: handing out its tiles costs more than a second thread gains (at n = 64, 0.9 x
+#: for 4096 arrays and 1.3 x for 8192; at n = 128, 1.5 x for 2048).
+_THREADED_MIN_WORK = 2**25
 
 #: Fewer rows than this make a product OpenBLAS runs on one thread anyway (it
 #: splits products of more than 2**18 multiply-adds), so no limit is set for them:
@@ -176,9 +190,14 @@ def _features_matmul(
     if rows < _THREADED_MIN_ROWS:
         _matmul_tiles(starts, *args)
     else:
+        # multiply-adds of the whole product
+        work = q.size * weights.shape[1]
+        thin = q.shape[1] <= _ONE_THREAD_MAX_JOINTS or work < _THREADED_MIN_WORK
         with _one_blas_thread() as threads:
             _run_threads(
-                min(threads, len(starts)), lambda tiles: _matmul_tiles(tiles, *args), starts
+                1 if thin else min(threads, len(starts)),
+                lambda tiles: _matmul_tiles(tiles, *args),
+                starts,
             )
     return None if bounds is None else (float(bounds[0].min()), float(bounds[1].max()))
 
