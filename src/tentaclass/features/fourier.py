@@ -229,7 +229,11 @@ _BLAS_STATE = _OneBlasThread()
 
 @contextmanager
 def _one_blas_thread() -> Iterator[int]:
-    """Limit BLAS to one thread; yield the number of threads it was set to."""
+    """Limit BLAS to one thread; yield the number of threads it was set to.
+
+    The limit is the process's: BLAS calls from other threads meanwhile run on
+    one thread too.
+    """
     state = _BLAS_STATE
     with state.lock:
         if state.users == 0:
