@@ -51,15 +51,14 @@ __all__ = ["dft_layer", "fourier_features"]
 #: Chosen by measurement (benchmarks/bench_fourier.py).
 MATMUL_MAX_JOINTS = 128
 
-#: Rows per block of the FFT path: bounds its temporaries.
-_BLOCK_ROWS = 16384
-
-#: Rows per tile of the matrix-product path. A tile's angles and product (1024 x 64
-#: doubles each at n = 64, 512 KiB) stay in the core's L2 cache from the first
-#: reading to the magnitudes, and a product of 1024 rows is as fast per row on one
-#: BLAS thread as one of 16384. Measured for n = 16, 64 and 128: tiles of 512 to
-#: 2048 rows took within a few per cent of each other, 4096 and more up to a fifth
-#: longer at n = 16.
+#: Rows per tile of the matrix-product path and per block of the FFT path. A
+#: tile's angles and product (1024 x 64 doubles each at n = 64, 512 KiB) stay in
+#: the core's L2 cache from the first reading to the magnitudes, and a product of
+#: 1024 rows is as fast per row on one BLAS thread as one of 16384. Measured for
+#: n = 16, 64 and 128: tiles of 512 to 2048 rows took within a few per cent of
+#: each other, 4096 and more up to a fifth longer at n = 16. The FFT path's
+#: blocks of 1024 rows took 0.5-0.85 x the time of blocks of 16384 at n = 130 to
+#: 1024 (one thread, the same bits).
 _TILE_ROWS = 1024
 
 #: Chains up to this many joints run on one thread whatever the setting: a tile's
@@ -351,10 +350,10 @@ def _features_fft(
 ) -> None:
     n = q.shape[1]
     ramp = np.arange(1, n + 1) / n
-    for lo in range(0, q.shape[0], _BLOCK_ROWS):
-        t = np.cumsum(_canonical_block(q[lo : lo + _BLOCK_ROWS], canonicalize), axis=1)
+    for lo in range(0, q.shape[0], _TILE_ROWS):
+        t = np.cumsum(_canonical_block(q[lo : lo + _TILE_ROWS], canonicalize), axis=1)
         t -= (t[:, -1:] if detrend else period) * ramp
-        out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_harmonics + 1])
+        out[lo : lo + _TILE_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_harmonics + 1])
 
 
 @blockwise
