@@ -55,12 +55,15 @@ def test_every_command_loads_and_is_listed():
     assert cli.get_command(ctx, "no-such-command") is None
 
 
-def test_a_few_fourier_features_do_not_load_numba():
-    """numba (about a second to import and load a kernel) only serves large batches."""
+@pytest.mark.parametrize("rows", [100, 20_000])
+def test_fourier_features_do_not_load_numba(rows):
+    """numba (about 50 MiB) stays out of the processes, Dask workers' among them."""
     code = (
         "import numpy as np\n"
+        "from threadpoolctl import threadpool_limits\n"
         "from tentaclass.features import fourier_features\n"
-        "fourier_features(np.tile([0, 0, 0, np.pi / 2], (100, 4)))\n"
+        "with threadpool_limits(2, user_api='blas'):\n"
+        f"    fourier_features(np.tile([0, 0, 0, np.pi / 2], ({rows}, 16)))\n"
         "import sys\n"
         "print('numba' in sys.modules)"
     )

@@ -44,13 +44,21 @@ def as_float_array(
 
 
 def as_angle_array(
-    q: ArrayLike, name: str = "joint_angles", *, min_joints: int = 3, bounded: bool = True
+    q: ArrayLike,
+    name: str = "joint_angles",
+    *,
+    min_joints: int = 3,
+    bounded: bool = True,
+    check_values: bool = True,
 ) -> FloatArray:
     """Joint-angle array of shape ``(..., n_joints)`` with finite values.
 
     Checks rank before size: a scalar is refused, the last axis must hold at
     least ``min_joints`` angles and no axis may be empty. With ``bounded`` the
     angles must lie within ``MAX_ANGLE`` (see :func:`check_angle_range`).
+    ``check_values=False`` leaves the values to the caller, who passes their
+    least and greatest to :func:`check_angle_values` (a kernel that reads the
+    array anyway finds them at little cost).
     """
     arr = as_float_array(q, name, min_ndim=1, allow_nonfinite=True)
     if arr.size == 0:
@@ -60,14 +68,30 @@ def as_angle_array(
             f"{name} must hold at least {min_joints} angles along its last axis, "
             f"got {arr.shape[-1]} (shape {arr.shape})"
         )
-    # two reductions and no temporary array: min and max are NaN if any value is
-    lo, hi = float(arr.min()), float(arr.max())
+    if check_values:
+        # two reductions and no temporary array: min and max are NaN if any value is
+        check_angle_values(arr, name, float(arr.min()), float(arr.max()), bounded=bounded)
+    return arr
+
+
+def check_angle_values(
+    q: FloatArray, name: str, lo: float, hi: float, *, bounded: bool = True
+) -> None:
+    """Refuse NaN, infinity and (with ``bounded``) angles beyond ``MAX_ANGLE`` in ``q``.
+
+    ``lo`` and ``hi`` are ``q.min()`` and ``q.max()`` (NaN if any value is):
+    ``q`` itself is read again only to name what is wrong.
+
+    >>> check_angle_values(np.r_[np.nan, 1.0], "q", np.nan, np.nan)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: q contains 1 NaN or infinite value(s)
+    """
     if not (np.isfinite(lo) and np.isfinite(hi)):
-        bad = int(np.count_nonzero(~np.isfinite(arr)))
+        bad = int(np.count_nonzero(~np.isfinite(q)))
         raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
     if bounded and not (-MAX_ANGLE <= lo and hi <= MAX_ANGLE):
-        check_angle_range(arr, name)
-    return arr
+        check_angle_range(q, name)
 
 
 #: Largest joint angle, radians: 2**20 (about a million) turns. No joint of a chain

@@ -242,3 +242,75 @@ def test_huge_coordinates_give_the_angles_of_the_shape():
     square = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)])
     for scale in (1e300, 1.7e308, 1e-300):
         np.testing.assert_allclose(points_to_angles(square * scale), np.full(4, np.pi / 2))
+
+
+@pytest.mark.parametrize(
+    "n, kwargs", [(16, {}), (64, {}), (64, {"detrend": True, "n_harmonics": 7}), (128, {})]
+)
+def test_matmul_tiles_on_two_threads_give_the_same_bits_as_on_one(n, kwargs, rng, monkeypatch):
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from tentaclass.features import fourier
+
+    # any batch of several tiles goes to two threads (but short chains: one)
+    monkeypatch.setattr(fourier, "_THREADED_MIN_WORK", 0)
+    threads_used = []
+
+    def spy(threads, work, starts):
+        threads_used.append(threads)
+        run_threads(threads, work, starts)
+
+    run_threads = fourier._run_threads
+    monkeypatch.setattr(fourier, "_run_threads", spy)
+    # several tiles and a short last one, a third of them clockwise
+    q = rng.normal(0, 0.3, size=(5 * fourier._TILE_ROWS + 37, n)) + 2 * np.pi / n
+    q[::3] = -q[::3, ::-1]
+    with threadpool_limits(1, user_api="blas"):
+        one = fourier_features(q, method="matmul", **kwargs)
+    with threadpool_limits(2, user_api="blas"):
+        two = fourier_features(q, method="matmul", **kwargs)
+        # the BLAS setting is back as the caller made it
+        assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
+    assert threads_used == [1, 1 if n <= fourier._ONE_THREAD_MAX_JOINTS else 2]
+    assert np.array_equal(one, two)
+    # row by row, without tiles or threads, the same numbers up to rounding
+    np.testing.assert_allclose(
+        one[::97], [fourier_features(r, method="fft", **kwargs) for r in q[::97]], atol=1e-10
+    )
+
+
+def test_matmul_tiles_called_from_several_threads_at_once(rng):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    qs = [rng.normal(0, 0.3, size=(9000 + 100 * i, 64)) + np.pi / 32 for i in range(4)]
+    expected = [fourier_features(q) for q in qs]
+    with threadpool_limits(2, user_api="blas"), ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(fourier_features, qs * 3))
+        # each call's hold on BLAS ends with the last of them, not before nor never
+        assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
+    for g, e in zip(got, expected * 3, strict=True):
+        assert np.array_equal(g, e)
+
+
+@pytest.mark.parametrize(
+    "bad, match",
+    [
+        (np.nan, r"^q contains 1 NaN or infinite value\(s\)"),
+        (-np.inf, r"^q contains 1 NaN or infinite value\(s\)"),
+        (1e300, r"^q: array 4321 holds an angle of 1e\+300 rad, beyond 2\*\*20 turns"),
+    ],
+)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_bad_angle_deep_in_a_large_batch_is_refused(bad, match, threads, rng, monkeypatch):
+    from threadpoolctl import threadpool_limits
+
+    from tentaclass.features import fourier
+
+    # the matrix-product path checks the values tile by tile, on every thread
+    monkeypatch.setattr(fourier, "_THREADED_MIN_WORK", 0)
+    q = rng.normal(0, 0.3, size=(6000, 64)) + np.pi / 32
+    q[4321, 17] = bad
+    with threadpool_limits(threads, user_api="blas"), pytest.raises(ValueError, match=match):
+        fourier_features(q, method="matmul")

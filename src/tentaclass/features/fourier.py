@@ -12,15 +12,22 @@ chains the whole transform - cumulative sum, ramp and DFT - folds into one
 magnitude, which beats ``numpy.fft`` on the batch for small ``n``
 (see ``benchmarks/bench_fourier.py``). Long chains use the FFT.
 
-Threads: the product uses as many BLAS threads as the BLAS library is set to;
-set them with threadpoolctl, e.g. ``with threadpool_limits(1, user_api="blas"):``.
-Chains of up to 32 joints always use one thread: such a thin product runs at
-memory speed and extra threads only cost (ten times, measured, on a busy
-two-core machine).
+Threads: the matrix-product path uses as many threads as the BLAS library is
+set to; set them with threadpoolctl, e.g. ``with threadpool_limits(1,
+user_api="blas"):``. It cuts a batch into tiles of ``_TILE_ROWS`` rows, small
+enough that a tile's product stays in the core's cache while its magnitudes
+are taken, and hands the tiles out to that many threads, each running BLAS on
+one thread. Chains of up to 32 joints, and batches too small to pay for a
+second thread, run on one. The tiles are the same whatever the number of
+threads, and so are the results, to the bit.
 """
 
 from __future__ import annotations
 
+import os
+import threading
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager, nullcontext
 from functools import lru_cache
 from typing import Any
 
@@ -29,7 +36,13 @@ import numpy as np
 from .._dask import blockwise
 from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_angle_array, check_choice, check_positive_float, check_positive_int
+from .._validation import (
+    as_angle_array,
+    check_angle_values,
+    check_choice,
+    check_positive_float,
+    check_positive_int,
+)
 from ..errors import InputError
 
 __all__ = ["dft_layer", "fourier_features"]
@@ -38,13 +51,26 @@ __all__ = ["dft_layer", "fourier_features"]
 #: Chosen by measurement (benchmarks/bench_fourier.py).
 MATMUL_MAX_JOINTS = 128
 
-#: Rows per block in the matrix-product path: large enough that a multi-threaded
-#: BLAS pays off (with 2048-row blocks two OpenBLAS threads made it 7 x slower
-#: than one on a loaded machine), small enough to bound the temporary.
-_BLOCK_ROWS = 16384
+#: Rows per tile of the matrix-product path and per block of the FFT path. A
+#: tile's angles and product (1024 x 64 doubles each at n = 64, 512 KiB) stay in
+#: the core's L2 cache from the first reading to the magnitudes, and a product of
+#: 1024 rows is as fast per row on one BLAS thread as one of 16384. Measured for
+#: n = 16, 64 and 128: tiles of 512 to 2048 rows took within a few per cent of
+#: each other, 4096 and more up to a fifth longer at n = 16. The FFT path's
+#: blocks of 1024 rows took 0.5-0.85 x the time of blocks of 16384 at n = 130 to
+#: 1024 (one thread, the same bits).
+_TILE_ROWS = 1024
 
-#: Up to this many joints the product runs on one BLAS thread (see _features_matmul).
+#: Chains up to this many joints run on one thread whatever the setting: a tile's
+#: product is thin, and NumPy's calls and the handing of the GIL from thread to
+#: thread cost more than a second thread gains (0.7-0.99 x at n = 16, 0.94 x at
+#: n = 32, measured with 131 072 and 65 536 arrays).
 _ONE_THREAD_MAX_JOINTS = 32
+
+#: A batch whose product has fewer multiply-adds than this runs on one thread:
+#: handing out its tiles costs more than a second thread gains (at n = 64, 0.9 x
+#: for 4096 arrays and 1.3 x for 8192; at n = 128, 1.5 x for 2048).
+_THREADED_MIN_WORK = 2**25
 
 #: Fewer rows than this make a product OpenBLAS runs on one thread anyway (it
 #: splits products of more than 2**18 multiply-adds), so no limit is set for them:
@@ -91,31 +117,34 @@ def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
 @lru_cache(maxsize=32)
 def _folded_weights(
     n: int, n_harmonics: int, detrend: bool, period: float
-) -> tuple[FloatArray, FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, FloatArray | None]:
     """Folded weights of the whole transform, for one chain length.
 
-    Returns ``weights`` (n, 2K + 1), ``flipped`` (n, 2K) and ``offset`` (2K,) such
-    that ``[Re | Im]`` of ``DFT(E)`` at ``k = 1..K`` is ``q @ weights[:, :-1] - offset``
-    for a counter-clockwise row and ``q @ flipped - offset`` for the canonical
-    form ``-q[::-1]`` of a clockwise one; the last column of ``weights`` is all
-    ones, so the same product also yields each row's total turn.
+    Returns ``weights`` (n, 2K), ``flipped`` (n, 2K) and ``offset`` (2K,) such
+    that ``Re, Im`` of ``DFT(E)`` at ``k = 1..K``, interleaved
+    (``Re_1, Im_1, Re_2, ...``), are ``q @ weights - offset`` for a
+    counter-clockwise row and ``q @ flipped - offset`` for the canonical form
+    ``-q[::-1]`` of a clockwise one. ``offset`` is None with ``detrend`` (the
+    transform is linear then).
     """
     k = np.arange(1, n_harmonics + 1)
     j = np.arange(n)
     phase = 2 * np.pi * (np.outer(j, k) % n) / n
-    dft = np.concatenate([np.cos(phase), -np.sin(phase)], axis=1)  # (n, 2K): E @ dft
+    dft = np.empty((n, 2 * n_harmonics))  # E @ dft, Re and Im interleaved
+    dft[:, 0::2] = np.cos(phase)
+    dft[:, 1::2] = -np.sin(phase)
     cumsum = np.triu(np.ones((n, n)))  # t = q @ cumsum
     ramp = np.arange(1, n + 1) / n
+    offset = None
     if detrend:
         # E = t - t_n * ramp = q @ (cumsum - 1 ramp^T): linear, no offset.
-        linear = (cumsum - ramp[None, :]) @ dft
-        offset = np.zeros(2 * n_harmonics)
+        weights = (cumsum - ramp[None, :]) @ dft
     else:
-        linear = cumsum @ dft
+        weights = cumsum @ dft
         offset = (period * ramp) @ dft
-    weights = np.concatenate([linear, np.ones((n, 1))], axis=1)
-    flipped = -linear[::-1].copy()  # (-q[::-1]) @ linear == q @ -linear[::-1]
-    for a in (weights, flipped, offset):
+        offset.setflags(write=False)
+    flipped = -weights[::-1].copy()  # (-q[::-1]) @ weights == q @ -weights[::-1]
+    for a in (weights, flipped):
         a.setflags(write=False)
     return weights, flipped, offset
 
@@ -136,15 +165,40 @@ def _features_matmul(
     period: float,
     canonicalize: bool,
     out: FloatArray,
-) -> None:
+    *,
+    extremes: bool = False,
+) -> tuple[float, float] | None:
+    """Features of the rows of ``q`` into ``out``; with ``extremes``, ``(q.min(), q.max())``.
+
+    With ``extremes`` the values of ``q`` are unchecked (the caller checks the
+    least and greatest, found tile by tile while the tile is in the cache), so
+    NaN, infinity or overflow in the arithmetic are no warning.
+    """
     weights, flipped, offset = _folded_weights(q.shape[1], n_harmonics, detrend, period)
-    if q.shape[1] <= _ONE_THREAD_MAX_JOINTS and q.shape[0] >= _THREADED_MIN_ROWS:
-        # A product this thin runs at memory speed; BLAS threads only add overhead
-        # (at n = 16, two OpenBLAS threads made it 10 x slower on a busy machine).
-        with _blas_controller().limit(limits=1, user_api="blas"):
-            _matmul_blocks(q, weights, flipped, offset, n_harmonics, canonicalize, out)
+    rows = q.shape[0]
+    tile = min(_TILE_ROWS, rows)
+    # the offset repeated over a tile's rows: one contiguous pass takes it off
+    # (a (2K,) row broadcast over the tile is a loop call per row, three times slower)
+    offsets = None
+    if offset is not None:
+        offsets = np.empty((tile, offset.shape[0]))
+        offsets[:] = offset
+    starts = range(0, rows, _TILE_ROWS)
+    bounds = np.empty((2, len(starts))) if extremes else None
+    args = (q, weights, flipped, offsets, canonicalize, out, bounds)
+    if rows < _THREADED_MIN_ROWS:
+        _matmul_tiles(starts, *args)
     else:
-        _matmul_blocks(q, weights, flipped, offset, n_harmonics, canonicalize, out)
+        # multiply-adds of the whole product
+        work = q.size * weights.shape[1]
+        thin = q.shape[1] <= _ONE_THREAD_MAX_JOINTS or work < _THREADED_MIN_WORK
+        with _one_blas_thread() as threads:
+            _run_threads(
+                1 if thin else min(threads, len(starts)),
+                lambda tiles: _matmul_tiles(tiles, *args),
+                starts,
+            )
+    return None if bounds is None else (float(bounds[0].min()), float(bounds[1].max()))
 
 
 @lru_cache(maxsize=1)
@@ -155,42 +209,134 @@ def _blas_controller() -> Any:
     return ThreadpoolController()
 
 
-def _matmul_blocks(
+class _OneBlasThread:
+    """BLAS held to one thread while any caller is inside; its setting kept for them.
+
+    Counted, so that callers on several threads neither read each other's
+    limit as the user's setting nor restore it while another still runs.
+    """
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.users = 0
+        self.threads = 1
+        self.limiter: Any = None
+
+
+_BLAS_STATE = _OneBlasThread()
+
+
+@contextmanager
+def _one_blas_thread() -> Iterator[int]:
+    """Limit BLAS to one thread; yield the number of threads it was set to.
+
+    The limit is the process's: BLAS calls from other threads meanwhile run on
+    one thread too.
+    """
+    state = _BLAS_STATE
+    with state.lock:
+        if state.users == 0:
+            controller = _blas_controller()
+            blas = controller.select(user_api="blas").lib_controllers
+            state.threads = max([1, *(lib.num_threads for lib in blas)])
+            state.limiter = controller.limit(limits=1, user_api="blas")
+        state.users += 1
+        threads = state.threads
+    try:
+        yield threads
+    finally:
+        with state.lock:
+            state.users -= 1
+            if state.users == 0:
+                state.limiter.restore_original_limits()
+                state.limiter = None
+
+
+@lru_cache(maxsize=1)
+def _executor(workers: int) -> Any:
+    """A persistent pool of ``workers`` threads (made on first use)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(workers, thread_name_prefix="tentaclass-fourier")
+
+
+# a forked child has none of the parent's pool threads
+os.register_at_fork(after_in_child=_executor.cache_clear)
+
+
+def _run_threads(threads: int, work: Callable[[Iterable[int]], None], starts: range) -> None:
+    """Call ``work(items)`` on ``threads`` threads (this one among them), sharing ``starts``.
+
+    Each thread's ``items`` hands out the next item of ``starts`` not yet
+    taken: a thread slowed down by other processes takes fewer, and none
+    waits for it but at the end.
+    """
+    if threads <= 1:
+        work(starts)
+        return
+    items = iter(starts)
+    lock = threading.Lock()
+
+    def take() -> int | None:
+        with lock:
+            return next(items, None)
+
+    futures = [_executor(threads - 1).submit(work, iter(take, None)) for _ in range(threads - 1)]
+    try:
+        work(iter(take, None))
+    finally:
+        for f in futures:
+            # a helper not started yet (its threads busy with another call) is not waited for
+            if not f.cancel():
+                f.result()
+
+
+def _matmul_tiles(
+    starts: Iterable[int],
     q: FloatArray,
     weights: FloatArray,
     flipped: FloatArray,
-    offset: FloatArray,
-    n_harmonics: int,
+    offsets: FloatArray | None,
     canonicalize: bool,
     out: FloatArray,
+    bounds: FloatArray | None,
 ) -> None:
-    # one buffer for every block's product: a fresh 8 MiB array per block is
-    # mapped anew by malloc and its pages faulted in, which costs as much as the
-    # product's arithmetic
-    buf = np.empty((min(_BLOCK_ROWS, q.shape[0]), weights.shape[1]))
-    for lo in range(0, q.shape[0], _BLOCK_ROWS):
-        block = q[lo : lo + _BLOCK_ROWS]
-        z = np.matmul(block, weights, out=buf[: block.shape[0]])
-        if canonicalize:
-            cw = z[:, -1] < 0
-            if cw.any():
-                z[cw, :-1] = block[cw] @ flipped
-        # |re + i im| with the offset taken off
-        _magnitudes(z, offset, n_harmonics, out[lo : lo + _BLOCK_ROWS])
+    """Features of the tiles of ``q`` from the rows ``starts`` on, ``_TILE_ROWS`` rows each.
+
+    With ``bounds`` (2, tiles), the least and greatest angle of each tile too.
+    """
+    # one buffer for every tile's product, small enough to stay in the cache
+    buf = np.empty((min(_TILE_ROWS, q.shape[0]), weights.shape[1]))
+    turns = np.empty(buf.shape[0])
+    ones = np.ones(q.shape[1])
+    with nullcontext() if bounds is None else np.errstate(all="ignore"):
+        for lo in starts:
+            block = q[lo : lo + _TILE_ROWS]
+            rows = block.shape[0]
+            if bounds is not None:
+                bounds[:, lo // _TILE_ROWS] = block.min(), block.max()
+            if canonicalize:
+                cw = np.matmul(block, ones, out=turns[:rows]) < 0
+            z = np.matmul(block, weights, out=buf[:rows])
+            if canonicalize and np.count_nonzero(cw):  # (ndarray.any costs a Python call)
+                z[cw] = block[cw] @ flipped
+            if offsets is not None:
+                np.subtract(z, offsets[:rows], out=z)
+            _magnitudes(z, out[lo : lo + _TILE_ROWS])
 
 
-def _magnitudes(z: FloatArray, offset: FloatArray, k: int, out: FloatArray) -> None:
-    """``out = |(z[:, :k] - offset[:k]) + i (z[:, k:2k] - offset[k:])|``; overwrites ``z[:, :2k]``.
+def _magnitudes(z: FloatArray, out: FloatArray) -> None:
+    """``out = |re + i im|`` of ``z`` (rows ``re_1, im_1, re_2, ...``); overwrites ``z``.
 
     sqrt of the sum of squares: np.hypot is several times slower and the
-    overflow it guards against cannot happen with angles in range. In place on
-    ``z`` (a temporary of the caller), so no array is allocated: as fast as a
+    overflow it guards against cannot happen with angles in range. Every pass
+    is one loop over contiguous memory (the pairs are read with stride 2), so
+    no array is allocated and NumPy's call per row is not paid: as fast as a
     compiled loop, without loading a compiler into the process.
     """
-    parts = z[:, : 2 * k]
-    parts -= offset[: 2 * k]
-    parts *= parts
-    np.add(parts[:, :k], parts[:, k:], out=out)
+    np.square(z, out=z)
+    pairs = z.reshape(z.shape[0], -1, 2)
+    np.add(pairs[..., 0], pairs[..., 1], out=out)
     np.sqrt(out, out=out)
 
 
@@ -204,10 +350,10 @@ def _features_fft(
 ) -> None:
     n = q.shape[1]
     ramp = np.arange(1, n + 1) / n
-    for lo in range(0, q.shape[0], _BLOCK_ROWS):
-        t = np.cumsum(_canonical_block(q[lo : lo + _BLOCK_ROWS], canonicalize), axis=1)
+    for lo in range(0, q.shape[0], _TILE_ROWS):
+        t = np.cumsum(_canonical_block(q[lo : lo + _TILE_ROWS], canonicalize), axis=1)
         t -= (t[:, -1:] if detrend else period) * ramp
-        out[lo : lo + _BLOCK_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_harmonics + 1])
+        out[lo : lo + _TILE_ROWS] = np.abs(np.fft.rfft(t, axis=1)[:, 1 : n_harmonics + 1])
 
 
 @blockwise
@@ -280,7 +426,8 @@ def fourier_features(
     >>> bool(np.allclose(f, fourier_features(-square[::-1])))
     True
     """
-    q = as_angle_array(q, "q", min_joints=2)
+    # the values are checked below: by the matrix-product kernel's own reading of them
+    q = as_angle_array(q, "q", min_joints=2, check_values=False)
     period = check_positive_float(period, "period")
     n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs)
     n = q.shape[-1]
@@ -298,8 +445,14 @@ def fourier_features(
     batch = q.shape[:-1]
     flat = np.ascontiguousarray(q.reshape(-1, n))
     out = np.empty((flat.shape[0], n_harmonics))
-    kernel = _features_matmul if method == "matmul" else _features_fft
-    kernel(flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
+    args = (flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
+    if method == "matmul" and flat.shape[0] > _TILE_ROWS:
+        extremes = _features_matmul(*args, extremes=True)
+        assert extremes is not None
+        check_angle_values(q, "q", *extremes)
+    else:
+        check_angle_values(q, "q", float(q.min()), float(q.max()))
+        (_features_matmul if method == "matmul" else _features_fft)(*args)
     if normalize:
         out /= n
     return out.reshape(*batch, n_harmonics)
