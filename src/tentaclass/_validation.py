@@ -492,6 +492,23 @@ def check_spread(
     return v
 
 
+def check_flag(value: object, name: str) -> bool:
+    """A boolean (``bool`` or ``numpy.bool_``): a string such as ``"no"`` would read as true.
+
+    Examples
+    --------
+    >>> check_flag(np.True_, "detrend")
+    True
+    >>> check_flag("no", "detrend")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: detrend must be True or False, got 'no'
+    """
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
 def check_choice(value: object, name: str, choices: Collection[str]) -> str:
     """One of the strings ``choices``; the error lists them.
 

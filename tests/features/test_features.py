@@ -124,6 +124,10 @@ def test_periodic_signal_ramp_and_degrees():
         ({"q": np.zeros(8), "n_harmonics": 0}, "at least 1"),
         ({"q": np.zeros(8), "method": "dct"}, "method"),
         ({"q": "abc"}, "array of numbers"),
+        # a string would read as true
+        ({"q": np.zeros(8), "detrend": "no"}, "detrend must be True or False, got 'no'"),
+        ({"q": np.zeros(8), "normalize": 2}, "normalize must be True or False"),
+        ({"q": np.zeros(8), "canonicalize": None}, "canonicalize must be True or False"),
     ],
 )
 def test_bad_input(kwargs, match):
@@ -200,6 +204,11 @@ def test_angle_spectrum_feature_names():
     [
         ({"n_harmonics": "half"}, "n_harmonics must be a number"),
         ({"weight_power": "x"}, "weight_power must be a finite number"),
+        # 8 ** 1e300 overflowed to infinite features with a RuntimeWarning
+        ({"weight_power": 1e300}, "weight_power 1e[+]300 is out of range: 8 [*][*] 1e[+]300"),
+        ({"weight_power": -400.0}, "weight_power -400 is out of range"),
+        ({"detrend": "yes"}, "detrend must be True or False"),
+        ({"normalize": 1}, "normalize must be True or False"),
         ({"n_harmonics": 8.0}, None),  # an integral float counts frequencies
     ],
 )

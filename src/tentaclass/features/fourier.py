@@ -40,6 +40,7 @@ from .._validation import (
     as_angle_array,
     check_angle_values,
     check_choice,
+    check_flag,
     check_positive_float,
     check_positive_int,
 )
@@ -429,6 +430,9 @@ def fourier_features(
     # the values are checked below: by the matrix-product kernel's own reading of them
     q = as_angle_array(q, "q", min_joints=2, check_values=False)
     period = check_positive_float(period, "period")
+    detrend = check_flag(detrend, "detrend")
+    normalize = check_flag(normalize, "normalize")
+    canonicalize = check_flag(canonicalize, "canonicalize")
     n_harmonics = renamed("n_harmonics", n_harmonics, "n_coeffs", n_coeffs)
     n = q.shape[-1]
     if n_harmonics is None:
@@ -445,7 +449,7 @@ def fourier_features(
     batch = q.shape[:-1]
     flat = np.ascontiguousarray(q.reshape(-1, n))
     out = np.empty((flat.shape[0], n_harmonics))
-    args = (flat, n_harmonics, bool(detrend), period, bool(canonicalize), out)
+    args = (flat, n_harmonics, detrend, period, canonicalize, out)
     if method == "matmul" and flat.shape[0] > _TILE_ROWS:
         extremes = _features_matmul(*args, extremes=True)
         assert extremes is not None

@@ -20,6 +20,7 @@ from .._validation import (
     MAX_LINKS,
     check_finite_float,
     check_fitted_X,
+    check_flag,
     check_frequency_count,
     check_positive_int,
     check_X,
@@ -153,7 +154,14 @@ class FourierFeatures(FourierFeaturesCore, _NumberedHarmonics, _AngleTransformer
         k = renamed_param(self, "n_harmonics", "n_coeffs")
         k = n // 2 if k is None else k
         self.n_harmonics_ = check_frequency_count(k, n // 2, "n_harmonics", "floor(n_joints / 2)")
-        check_finite_float(self.weight_power, "weight_power")
+        check_flag(self.detrend, "detrend")
+        check_flag(self.normalize, "normalize")
+        power = check_finite_float(self.weight_power, "weight_power")
+        if abs(power) * np.log(self.n_harmonics_) > np.log(np.finfo(float).max):
+            raise InputError(
+                f"weight_power {power:g} is out of range: {self.n_harmonics_} ** {abs(power):g} is "
+                "beyond float64 (weights of 0 to 2 are the useful range)"
+            )
         return self
 
 
