@@ -197,12 +197,14 @@ MAX_AXIS = 2**31 - 1
 #: polygons, circles, outline series, grids of candidate lengths).
 MAX_POINTS = 1_000_000
 
-#: Most samples (wraps, strokes, objects) one call of a data generator draws.
-MAX_SAMPLES = 1_000_000
+#: Most samples (wraps, strokes, objects) one call of a data generator draws: far
+#: beyond one machine's training sets (a million 64-link wraps is 512 MB), so only
+#: a count no call could finish is refused.
+MAX_SAMPLES = 100_000_000
 
-#: Most values one generated array may hold (800 MB of float64): samples times links,
-#: objects times pixels.
-MAX_VALUES = 100_000_000
+#: Most values one generated array may hold (8 GB of float64, 1 GB of pixels):
+#: samples times links, objects times pixels, rows times width.
+MAX_VALUES = 1_000_000_000
 
 
 def check_total(count: int, what: str, *, maximum: int = MAX_VALUES, unit: str = "values") -> None:
@@ -212,7 +214,7 @@ def check_total(count: int, what: str, *, maximum: int = MAX_VALUES, unit: str =
     Traceback (most recent call last):
     ...
     tentaclass.errors.InputError: the angles (n_samples x n_links) would hold \
-100,000,000,000 values, more than the 100,000,000 allowed
+100,000,000,000 values, more than the 1,000,000,000 allowed
     """
     if count > maximum:
         raise InputError(f"{what} would hold {count:,} {unit}, more than the {maximum:,} allowed")

@@ -38,7 +38,7 @@ def one_line(r):
         (["serve", "--port", "-1"], "tentaclass serve", "-1 is not in the range"),
         (["grasp", "--links", "10" * 11], "tentaclass grasp", "at most 496 links (one body nested"),
         (["bench", "--links", "10" * 11], "tentaclass bench", "not in the range 3<=x<=100000"),
-        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=1000000"),
+        (["bench", "--samples", "10" * 11], "tentaclass bench", "not in the range 8<=x<=100000000"),
         (
             ["bench", "--noise", "1e300"],
             "tentaclass bench",
