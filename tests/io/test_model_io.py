@@ -5,7 +5,7 @@ import zipfile
 
 import numpy as np
 import pytest
-from sklearn.pipeline import make_pipeline
+from sklearn.pipeline import Pipeline, make_pipeline
 
 from tentaclass.classifiers import (
     FourierClassifier,
@@ -48,6 +48,10 @@ def fitted_models(X, y):
             X, y
         ),
         "pipeline": make_pipeline(FourierFeatures(6), PNNClassifier(spread=0.3)).fit(X, y),
+        # step names as scikit-learn allows them: any distinct strings without "__"
+        "named-pipeline": Pipeline(
+            [("fourier-features", FourierFeatures(6)), ("pnn 1", PNNClassifier(spread=0.3))]
+        ).fit(X, y),
         "pnn": PNNClassifier(spread=0.3).fit(X, y),
         "rbf": RBFNetworkClassifier(centers="kmeans", n_centers=6, random_state=0).fit(X, y),
     }
@@ -63,6 +67,7 @@ def fitted_models(X, y):
         "fourier-pnn",
         "fourier-rbf",
         "pipeline",
+        "named-pipeline",
         "pnn",
         "rbf",
     ],
@@ -358,6 +363,10 @@ def _array_spec(meta, attribute):
         ),
         (
             lambda m: m["estimator"]["params"]["steps"][0]["__tuple__"].__setitem__(0, 7),
+            "Pipeline steps must be \\(name, estimator\\) pairs with distinct names",
+        ),
+        (
+            lambda m: m["estimator"]["params"]["steps"][0]["__tuple__"].__setitem__(0, "a__b"),
             "Pipeline steps must be \\(name, estimator\\) pairs with distinct names",
         ),
     ],

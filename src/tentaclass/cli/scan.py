@@ -228,17 +228,16 @@ def scan(
                 f"{threshold!r}: a number, auto, binary, fixed or adaptive",
                 param_hint="--threshold",
             ) from None
+    if simulate is None:
+        refuse_unused(ctx, ("random_state", "seed", "write_belt"), "needs --simulate")
     if files is not None or scheduler is not None:
         from ._files import scan_many
 
-        refuse_unused(ctx, ("random_state", "seed", "write_belt"), "needs --simulate")
         return scan_many(locals())
     refuse_unused(ctx, ("out_dir",), "needs --files")
     if (file is None) == (simulate is None):
         raise click.UsageError("give either FILE (or - for stdin) or --simulate N")
-    if simulate is None:
-        refuse_unused(ctx, ("random_state", "seed", "write_belt"), "needs --simulate")
-    else:
+    if simulate is not None:
         refuse_unused(ctx, ("fmt", "dtype"), "describes an input file; --simulate has none")
     stats: Counter = Counter()
     kept: list | None = [] if annotate is not None else None

@@ -563,14 +563,15 @@ def _check_rbf(est: Any) -> None:
 
 
 def _check_names(steps: object, where: str) -> None:
-    """A Pipeline's steps or a FeatureUnion's transformers: (name, estimator) pairs."""
-    names = [s[0] for s in steps if isinstance(s, tuple) and len(s) == 2] if isinstance(
-        steps, list
-    ) else []  # fmt: skip
+    """A Pipeline's steps or a FeatureUnion's transformers: (name, estimator) pairs.
+
+    The names follow scikit-learn's rules: distinct strings without ``__``.
+    """
+    items = steps if isinstance(steps, list) else [None]
+    names = [s[0] if isinstance(s, tuple) and len(s) == 2 else None for s in items]
     if (
         not isinstance(steps, list)
-        or len(names) != len(steps)
-        or not all(isinstance(n, str) and n.isidentifier() for n in names)
+        or not all(isinstance(n, str) and n and "__" not in n for n in names)
         or len(set(names)) != len(names)
     ):
         raise ModelFileError(f"{where} must be (name, estimator) pairs with distinct names")
