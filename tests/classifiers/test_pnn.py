@@ -68,19 +68,66 @@ def test_tiled_computation_equals_single_block(rng, monkeypatch, dtype):
 
 @pytest.mark.parametrize("dtype", ["float64", "float32"])
 @pytest.mark.parametrize("shift", [0.0, 40.0])
-def test_small_batches_score_as_in_a_large_batch_to_the_last_bit(rng, dtype, shift):
-    # small batches take the all-classes-at-once pass, a large one the tiles:
-    # the same numbers either way (a shift puts every class in a framed regime)
+def test_small_batches_score_as_in_a_large_batch(rng, dtype, shift):
+    # small batches take NumPy's all-classes-at-once pass, a large one the
+    # compiled tiles (a shift puts every class in a framed regime): the same
+    # labels, and scores within the rounding of exp and of the sums (float64:
+    # a few ulp) or of the float32 product (OpenBLAS's sgemm rounds a
+    # product of 40 rows differently from one of 5000)
     X = rng.normal(size=(300, 6))
     y = rng.integers(0, 4, 300)
     T = rng.normal(size=(5000, 6)) * 2 + shift
     clf = PNNClassifier(spread=0.5, dtype=dtype).fit(X, y)
     assert T.shape[0] * X.shape[0] > pnn_module._WHOLE_MAX >= 40 * X.shape[0]
     large = clf._joint_log_likelihood(T)
+    rtol = 2e-15 if dtype == "float64" else 4e-6
     for lo in (0, 17, 4000):
         small = clf._joint_log_likelihood(T[lo : lo + 40])
-        assert np.array_equal(small, large[lo : lo + 40])
-    assert np.array_equal(clf._joint_log_likelihood(T[3:4]), large[3:4])
+        np.testing.assert_allclose(small, large[lo : lo + 40], rtol=rtol)
+        assert np.array_equal(small.argmax(axis=1), large[lo : lo + 40].argmax(axis=1))
+    np.testing.assert_allclose(clf._joint_log_likelihood(T[3:4]), large[3:4], rtol=rtol)
+
+
+@pytest.mark.parametrize(("dtype", "bound"), [(np.float64, 708.0), (np.float32, np.float32(87.0))])
+def test_compiled_exp_is_within_one_ulp_and_clamped_to_normal_numbers(rng, dtype, bound):
+    from tentaclass.classifiers._pnn_kernel import vexp
+
+    x = np.concatenate([rng.uniform(-bound, bound, 200_000), rng.uniform(-1, 1, 20_000)])
+    x = np.concatenate([x, [0.0, -bound, bound]]).astype(dtype)
+    out = np.empty_like(x)
+    vexp(x, out)
+    ref = np.exp(x.astype(np.float64))  # correctly rounded but for rare cases
+    assert np.all(np.abs(out - ref) <= np.spacing(ref.astype(dtype)).astype(np.float64))
+    # beyond the bound: the value at the bound, a normal number (no subnormals)
+    beyond = np.array([-bound - 50, -1e4, bound + 50], dtype=dtype)
+    vexp(beyond, out[:3])
+    np.testing.assert_array_equal(out[:3], out[[-2, -2, -1]])
+    assert out[0] >= np.finfo(dtype).tiny
+
+
+@pytest.mark.parametrize("centre_scale", [3.0, 0.4])
+@pytest.mark.parametrize("tile_cols", [4096, 100])
+def test_float32_agrees_with_float64_on_clustered_data(monkeypatch, centre_scale, tile_cols):
+    # eight Gaussian clusters of 32 features, as benchmarks/bench_pnn.py: far
+    # apart (7 of 8 classes framed for most queries, most kernel values below
+    # float32's normal range) or overlapping (probabilities far from 0 and 1);
+    # tiles of a whole class or of 100 patterns
+    monkeypatch.setattr(pnn_module, "_TILE_COLS", tile_cols)
+    rng = np.random.default_rng(12345)
+    centres = rng.normal(0, centre_scale, (8, 32))
+    y, y_test = rng.integers(0, 8, 4000), rng.integers(0, 8, 400)
+    X = centres[y] + rng.normal(size=(4000, 32))
+    T = centres[y_test] + rng.normal(size=(400, 32))
+    clf64 = PNNClassifier(spread="auto").fit(X, y)
+    clf32 = PNNClassifier(spread=clf64.spread_, dtype="float32").fit(X, y)
+    assert T.shape[0] * X.shape[0] > pnn_module._WHOLE_MAX  # the compiled tiles
+    # float32 products round g |x - p|^2 to about 1e-6 of itself (3.5e-6 measured)
+    np.testing.assert_allclose(
+        clf32._joint_log_likelihood(T), clf64._joint_log_likelihood(T), rtol=1e-5
+    )
+    # 1.8e-6 measured on the overlapping clusters
+    np.testing.assert_allclose(clf32.predict_proba(T), clf64.predict_proba(T), atol=1e-5)
+    assert np.array_equal(clf32.predict(T), clf64.predict(T))
 
 
 def test_memory_budget_caps_the_tile(monkeypatch):

@@ -16,16 +16,22 @@ for speed and bounded memory:
   tiles, so no full kernel row is ever held and every value is computed once;
 - the sums are log-scaled per (row, class) by a "frame" fixed on the class's
   first tile: no shift at all when the kernel there is not tiny, else that
-  tile's maximum. The frame is folded into the product (it is one more term
-  of the augmented row), so later tiles need neither a max pass nor a shift:
-  product, ``exp`` in place, and a matrix-vector product with ones for the
-  sum. The rare tile whose sum overflows its frame (a near pattern after far
-  ones) is redone for those rows with an exact shift;
+  tile's maximum. Each tile, once out of the product, is read once by a
+  compiled kernel (:mod:`tentaclass.classifiers._pnn_kernel`) that
+  exponentiates and sums each row in place of NumPy's ``exp`` (one value at
+  a time in float64 on CPUs without AVX-512) and a matrix-vector product
+  with ones. The rare row whose tile sum overflows its frame (a near pattern
+  after far ones) is re-framed on that tile's maximum;
 - row blocks are spread over threads (numpy and BLAS release the GIL), with
   BLAS itself limited to one thread inside the workers; as many threads as
   CPUs, but no more than BLAS may use (``threadpoolctl.threadpool_limits``
   on BLAS limits the PNN too);
-- ``dtype="float32"`` halves the memory traffic and doubles the SIMD width.
+- ``dtype="float32"`` halves the memory traffic and doubles the SIMD width
+  of the product and of ``exp``, whose results are kept normal numbers
+  (subnormal ones are slow on x86); sums are float64 in either dtype;
+- small batches (up to ``_WHOLE_MAX`` kernel values) take NumPy's ``exp``
+  for all classes at once, without loading numba; their scores agree with
+  the tiled pass's to a few ulp.
 
 ``benchmarks/bench_pnn.py`` measures this against scikit-learn's brute-force
 1-nearest-neighbour search and the bare matrix product.
@@ -59,11 +65,13 @@ _TILE_BYTES = 4 * 2**20
 #: Most pattern columns in one tile (a tile never spans two classes).
 _TILE_COLS = 4096
 
-#: Per dtype: a class whose first tile reaches a log-kernel value above this is
-#: summed with no shift (``exp`` of values 40 below it is still a normal number
-#: in that dtype), and tile sums above ``_SUM_BIG`` are redone with a shift.
+#: Per dtype of the ``exp``: a class whose first tile reaches a log-kernel
+#: value above this is summed with no shift, and tile sums above ``_SUM_BIG``
+#: are redone with a shift. ``exp`` clamps its argument where its results
+#: would leave the normal numbers (at -708 in float64, -87 in float32): values
+#: there add at most ``exp(-47)`` times a class sum per kernel value.
 _FRAME_LOW = {np.float64: -600.0, np.float32: -40.0}
-_SUM_BIG = {np.float64: 1e300, np.float32: 1e36}
+_SUM_BIG = {np.float64: 1e300, np.float32: 1e30}
 
 #: Up to this many kernel values (a small batch), all classes are framed and
 #: exponentiated at once rather than tile by tile (same values, fewer steps;
@@ -150,109 +158,64 @@ class PNNCore(ProbabilisticCore):
         Sums are kept relative to a per-(row, class) log "frame": 0 where the
         class's first tile already shows a kernel value above ``_FRAME_LOW``
         (then ``exp`` needs no shift at all), else that first tile's maximum.
-        Later tiles thus need neither a max pass nor, mostly, a shift; a row
-        whose tile sum overflows the frame (a near pattern after far ones) is
-        recomputed for that tile and re-framed on its true maximum.
+        Later tiles thus need no shift of their own; a row whose tile sum
+        overflows the frame (a near pattern after far ones) is re-framed on
+        that tile's maximum. Exponentials and sums are taken in float64
+        whatever the dtype of the product.
         """
         n, n_classes = xa.shape[0], self.classes_.size
-        dt = xa.dtype
-        low, big = _FRAME_LOW[dt.type], _SUM_BIG[dt.type]
-        if n * self._pt.shape[1] <= _WHOLE_MAX and len(tiles) == n_classes and dt == np.float64:
-            whole = self._log_sums_whole(xa, low, big)
+        if n * self._pt.shape[1] <= _WHOLE_MAX and len(tiles) == n_classes:
+            whole = self._log_sums_whole(xa)
             if whole is not None:
                 return whole
-        frame = np.zeros((n, n_classes))
-        s = np.zeros((n, n_classes))
+        from ._pnn_kernel import framed_exp_sums  # numba: large predictions only
+
+        pt = self._pt
+        low, big = _FRAME_LOW[xa.dtype.type], _SUM_BIG[xa.dtype.type]
+        frame = np.zeros((n_classes, n))
+        s = np.zeros((n_classes, n))
         width = max(b - a for _, a, b in tiles)
-        buf = np.empty(min(rows, n) * width, dtype=dt)
+        buf = np.empty(min(rows, n) * width, dtype=xa.dtype)
         for lo in range(0, n, rows):
             xb = xa[lo : lo + rows]
-            fb, sb = frame[lo : lo + rows], s[lo : lo + rows]
-            self._frame_block(xb, fb, sb, tiles, buf, low, big)
-        return frame + np.log(s)
+            current = -1
+            for c, a, b in tiles:
+                t = buf[: xb.shape[0] * (b - a)].reshape(xb.shape[0], b - a)
+                np.matmul(xb, pt[:, a:b], out=t)
+                first = c != current
+                current = c
+                fb, sb = frame[c, lo : lo + rows], s[c, lo : lo + rows]
+                framed_exp_sums(t, fb, sb, first, low, big)
+        return (frame + np.log(s)).T
 
-    def _log_sums_whole(self, xa: np.ndarray, low: float, big: float) -> FloatArray | None:
-        """:meth:`_log_sums` of a small float64 batch when every class is one tile.
+    def _log_sums_whole(self, xa: np.ndarray) -> FloatArray | None:
+        """:meth:`_log_sums` of a small batch when every class is one tile, with NumPy.
 
-        The same values in fewer steps (one ``exp``, one maximum and one frame
-        pass for all classes at once, which matters for small batches); None
-        when a class's sum overflows its frame (then the tiled pass redoes it).
+        One ``exp``, one maximum and one frame pass for all classes at once
+        (which matters for small batches); None when a class's sum overflows
+        its frame (then the tiled pass redoes it). The values agree with the
+        tiled pass's to a few ulp (its ``exp`` and sums are compiled ones).
         """
-        dt, bounds, pt = xa.dtype, self._bounds, self._pt
-        t = np.empty((xa.shape[0], pt.shape[1]), dtype=dt)
+        bounds, pt = self._bounds, self._pt
+        t = np.empty((xa.shape[0], pt.shape[1]), dtype=xa.dtype)
         edges = list(itertools.pairwise(bounds.tolist()))
         for a, b in edges:  # per class, as the tiles are (the sums of products follow the shape)
-            np.matmul(xa, pt[:, a:b], out=t[:, a:b])
-        m0 = np.maximum.reduceat(t, bounds[:-1], axis=1).astype(np.float64)
-        frame = np.where(m0 > low, 0.0, m0)
+            t[:, a:b] = xa @ pt[:, a:b]
+        t64 = t.astype(np.float64, copy=False)
+        m0 = np.maximum.reduceat(t64, bounds[:-1], axis=1)
+        frame = np.where(m0 > _FRAME_LOW[np.float64], 0.0, m0)
         if frame.any():
-            t -= np.repeat(frame.astype(dt), self.class_count_, axis=1)
+            t64 -= np.repeat(frame, self.class_count_, axis=1)
         with np.errstate(over="ignore"):
-            np.exp(t, out=t)
-            ones = np.ones(int(self.class_count_.max()), dtype=dt)
+            np.exp(t64, out=t64)
+            ones = np.ones(int(self.class_count_.max()))
             s = np.empty(frame.shape)
             for c, (a, b) in enumerate(edges):
                 # contiguous, as a tile is (BLAS's sums may follow the layout)
-                s[:, c] = np.ascontiguousarray(t[:, a:b]) @ ones[: b - a]
-        if not (s <= big).all():
+                s[:, c] = np.ascontiguousarray(t64[:, a:b]) @ ones[: b - a]
+        if not (s <= _SUM_BIG[np.float64]).all():
             return None
         return frame + np.log(s)
-
-    def _frame_block(
-        self,
-        xb: np.ndarray,
-        fb: FloatArray,
-        sb: FloatArray,
-        tiles: list,
-        buf: np.ndarray,
-        low: float,
-        big: float,
-    ) -> None:
-        """Accumulate one row block's framed class sums into ``fb``, ``sb``.
-
-        The frame is folded into the product: the samples' last augmented
-        column (``-g |x|^2``, multiplied by the patterns' row of ones) becomes
-        ``-g |x|^2 - frame``, so later tiles come out of the product already
-        shifted. Tile sums are matrix-vector products with a vector of ones.
-        """
-        dt, pt = xb.dtype, self._pt
-        ones = np.ones(max(b - a for _, a, b in tiles), dtype=dt)
-        xs = xb.copy()  # xb with the current class's frame folded in
-        current = -1
-        exp_low = float(np.exp(low))
-        with np.errstate(over="ignore"):  # overflowing tile sums are redone below
-            for c, a, b in tiles:
-                t = buf[: xb.shape[0] * (b - a)].reshape(xb.shape[0], b - a)
-                np.matmul(xb if c != current else xs, pt[:, a:b], out=t)
-                np.exp(t, out=t)
-                tsum = (t @ ones[: b - a]).astype(np.float64)
-                if c != current:  # first tile of class c: fix the frame
-                    current = c
-                    f = np.zeros(xb.shape[0])
-                    # a row whose kernel is above exp(low) somewhere in the tile
-                    # has no frame (a sum of b - a kernels all below it is less)
-                    if not (tsum > 2 * (b - a) * exp_low).all():
-                        np.matmul(xb, pt[:, a:b], out=t)
-                        m0 = t.max(axis=1).astype(np.float64)
-                        f = np.where(m0 > low, 0.0, m0)
-                        if f.any():
-                            t -= f.astype(dt)[:, None]
-                        np.exp(t, out=t)
-                        tsum = (t @ ones[: b - a]).astype(np.float64)
-                    fb[:, c] = f
-                    xs[:, -1] = xb[:, -1] - f.astype(dt)
-                bad = ~(tsum <= big)
-                if bad.any():
-                    idx = np.flatnonzero(bad)
-                    tt = xb[idx] @ pt[:, a:b]
-                    new = np.maximum(f[idx], tt.max(axis=1).astype(np.float64))
-                    tt -= new.astype(dt)[:, None]
-                    np.exp(tt, out=tt)
-                    sb[idx, c] = sb[idx, c] * np.exp(f[idx] - new) + tt.sum(axis=1)
-                    f[idx] = fb[idx, c] = new
-                    xs[idx, -1] = xb[idx, -1] - new.astype(dt)
-                    tsum[idx] = 0.0
-                sb[:, c] += tsum
 
     def _joint_log_likelihood(self, X: FloatArray) -> FloatArray:
         dt = self._pt.dtype
