@@ -10,13 +10,20 @@ bare product ``X_test @ X_train.T`` (result discarded: the full 100 000 x
 with BLAS threads, and cache-sized tiles over threads as the PNN does - of
 which the faster counts. All timings come from
 one run on the same data, so the ratios are meaningful even on a busy machine;
-absolute numbers are not. Everything runs with BLAS limited to 1 thread and
-then to all CPUs (threadpoolctl); the PNN and the tiled product use as many
-threads as BLAS may.
+absolute numbers are not. Everything runs with thread pools limited to 1 thread and
+then to all CPUs (threadpoolctl, every pool: BLAS and scikit-learn's OpenMP
+threads alike); the PNN and the tiled product use as many threads as BLAS may.
 
 The data are Gaussian clusters (one per class) in 32 dimensions, the shape
-of Fourier features of 64-link chains; the PNN spread is chosen by
-``spread="auto"`` on the training set (not timed).
+of Fourier features of 64-link chains (``--centres 0``: one cluster, labels
+at random, so that no class is far from a query); the PNN spread is chosen
+by ``spread="auto"`` on the training set (not timed).
+
+``--components`` adds where the time of one kernel value goes, in CPU time
+on one thread (min of interleaved repeats), on one tile of the PNN's own
+shape: the product, the compiled ``exp`` and sum, and NumPy's ``exp`` and
+matrix-vector sum that they replace, against the whole PNN, scikit-learn's
+1-NN and the bare product per (test, training) pair.
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ import argparse
 import itertools
 import os
 import sys
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -38,10 +46,12 @@ from _timing import interleaved, machine, markdown_table
 from tentaclass.classifiers import PNNClassifier
 
 
-def make_data(n_train: int, n_test: int, n_features: int, n_classes: int, seed: int):
-    """Gaussian clusters: centres at scale 3, unit noise."""
+def make_data(
+    n_train: int, n_test: int, n_features: int, n_classes: int, seed: int, scale: float = 3.0
+):
+    """Gaussian clusters: centres at scale ``scale`` (0: one cluster), unit noise."""
     rng = np.random.default_rng(seed)
-    centres = rng.normal(0, 3, (n_classes, n_features))
+    centres = rng.normal(0, scale, (n_classes, n_features))
     y_train = rng.integers(0, n_classes, n_train)
     y_test = rng.integers(0, n_classes, n_test)
     X_train = centres[y_train] + rng.normal(size=(n_train, n_features))
@@ -90,9 +100,12 @@ def main(
     n_classes: int = 8,
     repeat: int = 3,
     seed: int = 0,
+    centres: float = 3.0,
 ) -> list[dict]:
     """Measure and print a markdown table; returns the rows."""
-    X_train, y_train, X_test, y_test = make_data(n_train, n_test, n_features, n_classes, seed)
+    X_train, y_train, X_test, y_test = make_data(
+        n_train, n_test, n_features, n_classes, seed, centres
+    )
     pnn64 = PNNClassifier(spread="auto").fit(X_train, y_train)
     spread = pnn64.spread_
     results = []
@@ -108,7 +121,8 @@ def main(
             "blocks": lambda Xte=Xte, Xtr=Xtr: bare_matmul(Xte, Xtr),
             "tiled": lambda Xte=Xte, Xtr=Xtr: bare_matmul_tiled(Xte, Xtr),
         }
-        with threadpool_limits(threads, user_api="blas"):
+        # every thread pool (BLAS, and scikit-learn's OpenMP) to the same count
+        with threadpool_limits(threads):
             header = machine()
             best = interleaved(runs, repeat)
         t_pnn, t_knn, t_blocks, t_tiled = (best[k] for k in runs)
@@ -148,7 +162,8 @@ def main(
     ]
     print(
         f"PNN predict, {n_train:,} training x {n_test:,} test arrays of {n_features} features, "
-        f"{n_classes} classes, spread {spread:.3g} (auto); times in s, rates in 1e9 pairs/s; "
+        f"{n_classes} classes (centres at scale {centres:g}), spread {spread:.3g} (auto); "
+        "times in s, rates in 1e9 pairs/s; "
         f"{results[-1]['machine']}\n"
     )
     print(
@@ -172,10 +187,81 @@ def main(
     return results
 
 
+def _cpu_min(runs: dict, repeat: int) -> dict:
+    """Least process CPU time of each function over interleaved repeats."""
+    best = dict.fromkeys(runs, float("inf"))
+    for _ in range(repeat):
+        for key, func in runs.items():
+            t0 = time.process_time()
+            func()
+            best[key] = min(best[key], time.process_time() - t0)
+    return best
+
+
+def components(
+    n_train: int = 40_000, n_test: int = 2_000, repeat: int = 5, centres: float = 3.0
+) -> None:
+    """Print the cost of one kernel value, in ns of CPU time, one thread."""
+    from tentaclass.classifiers._pnn_kernel import framed_exp_sums
+
+    X_train, y_train, X_test, _ = make_data(n_train, n_test, 32, 8, 0, centres)
+    spread = PNNClassifier(spread="auto").fit(X_train, y_train).spread_
+    rows_out = []
+    n_tiles = 50  # tiles per timed call
+    with threadpool_limits(1):  # BLAS and OpenMP (scikit-learn's 1-NN)
+        header = machine()
+        for dtype in ("float64", "float32"):
+            pnn = PNNClassifier(spread=spread, dtype=dtype).fit(X_train, y_train)
+            Xtr, Xte = X_train.astype(dtype), X_test.astype(dtype)
+            knn = KNeighborsClassifier(n_neighbors=1, algorithm="brute").fit(Xtr, y_train)
+            rows, tiles = pnn._tiles1
+            _, a, b = tiles[0]
+            pt = pnn._pt[:, a:b]
+            xa = np.random.default_rng(1).normal(size=(rows, pt.shape[0])).astype(dtype)
+            t = np.empty((rows, b - a), dtype=dtype)
+            np.matmul(xa, pt, out=t)
+            t *= 50 / -t.min()  # log kernels in [-50, 0]: no frame, exp of normal numbers
+            tile = t.copy()
+            frame, sums = np.zeros(rows), np.zeros(rows)
+            ones = np.ones(b - a, dtype=dtype)
+            runs = {
+                "product": lambda xa=xa, pt=pt, t=t: [
+                    np.matmul(xa, pt, out=t) for _ in range(n_tiles)
+                ],
+                "compiled exp + sum": lambda tile=tile, f=frame, s=sums: [
+                    framed_exp_sums(tile, f, s, True, -600.0, 1e300) for _ in range(n_tiles)
+                ],
+                "NumPy exp": lambda tile=tile, t=t: [np.exp(tile, out=t) for _ in range(n_tiles)],
+                "NumPy sum (product with ones)": lambda t=t, ones=ones: [
+                    t @ ones for _ in range(n_tiles)
+                ],
+                "PNN predict": lambda pnn=pnn: pnn.predict(X_test),
+                "1-NN brute predict": lambda knn=knn, Xte=Xte: knn.predict(Xte),
+                "bare matmul": lambda Xte=Xte, Xtr=Xtr: bare_matmul(Xte, Xtr),
+            }
+            framed_exp_sums(tile, frame, sums, True, -600.0, 1e300)  # compiled before timing
+            best = _cpu_min(runs, repeat)
+            per_tile = n_tiles * tile.size
+            for key, sec in best.items():
+                per = per_tile if key in list(runs)[:4] else n_train * n_test
+                shape = f"tile {rows} x {b - a}" if per == per_tile else "per pair"
+                rows_out.append([dtype, key, shape, f"{sec / per * 1e9:.2f}"])
+    print(
+        "Cost per kernel value (the first four on one tile, the rest per pair of "
+        f"{n_train:,} x {n_test:,}), CPU ns, min of {repeat}; {header}\n"
+    )
+    print(markdown_table(["dtype", "step", "on", "ns per value"], rows_out))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--train", type=int, default=100_000)
     parser.add_argument("--test", type=int, default=100_000)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--centres", type=float, default=3.0, help="0: one cluster")
+    parser.add_argument("--components", action="store_true")
     args = parser.parse_args()
-    main(args.train, args.test, repeat=args.repeat)
+    if args.components:
+        components(args.train, args.test, args.repeat, args.centres)
+    else:
+        main(args.train, args.test, repeat=args.repeat, centres=args.centres)

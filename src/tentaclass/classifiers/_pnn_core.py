@@ -58,12 +58,12 @@ NEWPNN_BIAS = float(np.sqrt(-np.log(0.5)))
 #: ``_TILE_BYTES``); this cap only binds on machines with very many threads.
 MAX_BLOCK_BYTES = 256 * 2**20
 
-#: Target size of one kernel tile, in bytes: small enough to stay in cache
-#: between the product, the ``exp`` pass and the sum.
-_TILE_BYTES = 4 * 2**20
+#: Target size of one kernel tile, in bytes: small enough to stay in a core's
+#: L2 cache between the product and the compiled ``exp`` and sum.
+_TILE_BYTES = 2**20
 
 #: Most pattern columns in one tile (a tile never spans two classes).
-_TILE_COLS = 4096
+_TILE_COLS = 1024
 
 #: Per dtype of the ``exp``: a class whose first tile reaches a log-kernel
 #: value above this is summed with no shift, and tile sums above ``_SUM_BIG``

@@ -117,17 +117,19 @@ def _exp32(x):
 
 
 @nb.njit(cache=True, nogil=True, fastmath={"reassoc", "contract"})
-def _exp_sum(row, shift):
+def _exp_sum(row, shift, scratch):
     """``sum(exp(row - shift))`` in float64 (reassociated: vectorised partial sums).
 
-    A float32 row is exponentiated in float32 (twice the SIMD width) and
-    summed in float64.
+    A float32 row is exponentiated in float32 into ``scratch`` (a loop of its
+    own, so it runs at float32's SIMD width) and then summed in float64.
     """
     acc = 0.0
     if row.itemsize == 4:
         s32 = _F32(shift)
         for j in range(row.size):
-            acc += np.float64(_exp32(_F32(row[j]) - s32))
+            scratch[j] = _exp32(_F32(row[j]) - s32)
+        for j in range(row.size):
+            acc += np.float64(scratch[j])
     else:
         for j in range(row.size):
             acc += _exp(np.float64(row[j]) - shift)
@@ -161,6 +163,7 @@ def framed_exp_sums(t, frame, sums, first, low, big):
         raised to the tile's maximum and the sum recomputed (a near pattern
         after far ones).
     """
+    scratch = np.empty(t.shape[1], dtype=np.float32)
     for i in range(t.shape[0]):
         row = t[i]
         if first:
@@ -168,11 +171,11 @@ def framed_exp_sums(t, frame, sums, first, low, big):
             frame[i] = 0.0 if m > low else m
             sums[i] = 0.0
         f = frame[i]
-        acc = _exp_sum(row, f)
+        acc = _exp_sum(row, f, scratch)
         if not acc <= big:
             new = max(f, _row_max(row))
             sums[i] *= _exp(f - new)
-            acc = _exp_sum(row, new)
+            acc = _exp_sum(row, new, scratch)
             frame[i] = new
         sums[i] += acc
 
