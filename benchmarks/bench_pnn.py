@@ -187,17 +187,6 @@ def main(
     return results
 
 
-def _cpu_min(runs: dict, repeat: int) -> dict:
-    """Least process CPU time of each function over interleaved repeats."""
-    best = dict.fromkeys(runs, float("inf"))
-    for _ in range(repeat):
-        for key, func in runs.items():
-            t0 = time.process_time()
-            func()
-            best[key] = min(best[key], time.process_time() - t0)
-    return best
-
-
 def components(
     n_train: int = 40_000, n_test: int = 2_000, repeat: int = 5, centres: float = 3.0
 ) -> None:
@@ -240,7 +229,7 @@ def components(
                 "bare matmul": lambda Xte=Xte, Xtr=Xtr: bare_matmul(Xte, Xtr),
             }
             framed_exp_sums(tile, frame, sums, True, -600.0, 1e300)  # compiled before timing
-            best = _cpu_min(runs, repeat)
+            best = interleaved(runs, repeat, clock=time.process_time)
             per_tile = n_tiles * tile.size
             for key, sec in best.items():
                 per = per_tile if key in list(runs)[:4] else n_train * n_test
