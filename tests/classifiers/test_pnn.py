@@ -180,6 +180,23 @@ def test_near_patterns_after_far_ones_in_a_class(rng, monkeypatch, dtype):
     np.testing.assert_allclose(jll, ref_log, rtol=1e-9 if dtype == "float64" else 2e-4)
 
 
+@pytest.mark.parametrize("dtype", ["float64", "float32"])
+def test_a_large_framed_sum_rescaled_by_a_much_nearer_pattern(monkeypatch, dtype):
+    # one pattern per tile: the first fixes the class's frame 5000 below 0,
+    # the second lies 690 above that frame (a sum near 1e300 in it), the third
+    # is near the query: re-framing scales the earlier sum by exp(-4900),
+    # which is 0, not the smallest value the compiled exp returns
+    monkeypatch.setattr(pnn_module, "_TILE_COLS", 1)
+    g = np.log(2.0)  # spread 1
+    X = np.r_[np.sqrt([5000.0 / g, 4310.0 / g]), 0.5, 3.0][:, None]
+    clf = PNNClassifier(spread=1.0, dtype=dtype).fit(X, [0, 0, 0, 1])
+    assert len(clf._tiles1[1]) == 4  # the compiled tiles, not the small-batch pass
+    ref = np.log(np.exp(-g * X[:3, 0] ** 2).sum() / 3)
+    jll = clf._joint_log_likelihood(np.zeros((1, 1)))
+    # float32: the product rounds g |x - mean|^2 (about 1200 here) to ~7e-5
+    np.testing.assert_allclose(jll[0, 0], ref, rtol=1e-12 if dtype == "float64" else 1e-4)
+
+
 @pytest.mark.parametrize("spread", [0.3, 3.0])
 def test_float32_agrees_with_float64(rng, spread):
     X = rng.normal(size=(400, 8))

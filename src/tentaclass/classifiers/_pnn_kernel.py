@@ -14,6 +14,8 @@ so reading a model file and scoring a few arrays never loads numba.
 
 from __future__ import annotations
 
+import math
+
 import numba as nb
 import numpy as np
 from llvmlite import ir
@@ -174,7 +176,7 @@ def framed_exp_sums(t, frame, sums, first, low, big):
         acc = _exp_sum(row, f, scratch)
         if not acc <= big:
             new = max(f, _row_max(row))
-            sums[i] *= _exp(f - new)
+            sums[i] *= math.exp(f - new)  # exact, to 0 if need be: unclamped
             acc = _exp_sum(row, new, scratch)
             frame[i] = new
         sums[i] += acc
