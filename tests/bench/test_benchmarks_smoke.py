@@ -30,6 +30,9 @@ def test_bench_pnn_smoke(capsys):
     assert all(r["pnn"] > 0 and r["knn"] > 0 and r["bare"] > 0 for r in rows)
     out = capsys.readouterr().out
     assert "1-NN / PNN" in out and "load average" in out
+    load("bench_pnn").components(n_train=3000, n_test=200, repeat=1, centres=0.0)
+    out = capsys.readouterr().out
+    assert "compiled exp + sum" in out and "NumPy exp" in out and "load average" in out
 
 
 def test_bench_shift_nn_smoke(capsys):
