@@ -6,7 +6,8 @@ times the matrix product per kernel value). Here ``exp`` is a polynomial that
 the compiler vectorises, fused with the frame and the row sum, so each tile
 is read once after the product: no ``exp`` pass writing the tile back and no
 second pass summing it. The tiles of a float32 prediction are exponentiated
-and summed in float64 (no subnormal float32 numbers, which are slow on x86).
+in float32 at twice the SIMD width, with arguments clamped so that no result
+is a subnormal number (slow on x86), and summed in float64.
 
 Imported only by large predictions (:mod:`tentaclass.classifiers._pnn_core`),
 so reading a model file and scoring a few arrays never loads numba.
