@@ -93,7 +93,8 @@ def main() -> None:
     if not opts.command:
         parser.error("give a tentaclass command, e.g. 'wrap' or 'scan --simulate 5'")
 
-    os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="numba-cold-")
+    cache = tempfile.TemporaryDirectory(prefix="numba-cold-")
+    os.environ["NUMBA_CACHE_DIR"] = cache.name
     sys.path.insert(0, str(ROOT / "src"))
     recorder = _Recorder()
     recorder.install()
@@ -103,6 +104,7 @@ def main() -> None:
     with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):
         cli(opts.command, prog_name="tentaclass")
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    cache.cleanup()
 
     recs = recorder.records
     total = sum(r["excl"] for r in recs)
