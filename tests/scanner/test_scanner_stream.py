@@ -127,6 +127,22 @@ def test_bytes_in_any_split():
         assert [o.to_dict() for o in out] == ref
 
 
+def test_read_only_and_writeable_rows_share_one_compiled_kernel(belt, whole):
+    from tentaclass.scanner import _segment
+
+    frozen = belt.image.copy()
+    frozen.flags.writeable = False
+    # a writeable chunk, a read-only one, bytes: the same objects
+    assert [o.to_dict() for o in scan(frozen, 7)] == whole
+    data = belt.image.view(np.uint8).tobytes()
+    scanner = LineScanner(belt.image.shape[1])
+    got = scanner.feed(data) + scanner.close()
+    assert [o.to_dict() for o in got] == whole
+    # every 8-bit chunk ran through one specialisation of the kernel
+    uint8 = [s for s in _segment.scan_rows.signatures if str(s[0].dtype) == "uint8"]
+    assert len(uint8) == 1, uint8
+
+
 def test_bad_rows_are_refused_and_earlier_objects_kept():
     img = np.zeros((6, 5), dtype=int)
     img[1:3, 1:3] = 1

@@ -45,6 +45,22 @@ _MODES = {"binary": 0, "fixed": 1, "adaptive": 2}
 
 
 _NO_WORDS = np.zeros((0, 0), dtype=np.uint64)
+_NO_WORDS.flags.writeable = False  # read-only as the rows' own words are (see _read_only)
+
+
+def _read_only(rows: np.ndarray) -> np.ndarray:
+    """``rows`` as a read-only array (a view, no copy).
+
+    numba compiles a kernel once per argument type, and an array's type includes
+    whether it can be written: passing every chunk read-only, whether the caller's
+    array is writeable (a simulated belt, a camera's buffer) or not (rows read
+    with :func:`numpy.frombuffer`, a read-only memory map), compiles the scanning
+    kernel once per pixel type, not twice.
+    """
+    if rows.flags.writeable:
+        rows = rows.view()
+        rows.flags.writeable = False
+    return rows
 
 
 def _words(rows: np.ndarray) -> np.ndarray:
@@ -217,9 +233,7 @@ class LineScanner:
     def _bytes_rows(self, rows: bytes | bytearray | memoryview) -> np.ndarray:
         data = self._partial + bytes(rows)
         n = len(data) // self.width
-        # a writeable copy: the kernels compiled for writeable rows serve it
-        buf = bytearray(data[: n * self.width])
-        arr = np.frombuffer(buf, dtype=np.uint8).reshape(n, self.width)
+        arr = np.frombuffer(data, dtype=np.uint8, count=n * self.width).reshape(n, self.width)
         if arr.size and arr.max() > 1:
             i, j = np.argwhere(arr > 1)[0]
             hint = (
@@ -514,8 +528,8 @@ class LineScanner:
         if mode == 0 and dark:
             arr = (arr == 0).view(np.uint8)
             dark = False
-        # C order: the kernel is compiled for contiguous rows of each pixel type only
-        arr = np.ascontiguousarray(arr)
+        # C order, read-only: the kernel is compiled for one kind of rows per pixel type
+        arr = _read_only(np.ascontiguousarray(arr))
         words = _words(arr) if mode == 0 else _NO_WORDS
         start, n = 0, arr.shape[0]
         kept: list[tuple[np.ndarray, np.ndarray]] = []  # the objects output, added at the end
