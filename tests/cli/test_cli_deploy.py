@@ -147,6 +147,12 @@ def test_reject_says_unknown_outside_the_classes():
     # without --reject the closest class is named
     plain = run("classify", input=rows)
     assert "unknown" not in plain.stdout
+    # an 'unknown' row shows no probability (it was '1.000', the known classes' best) and
+    # names the closest class, the one classify names without --reject
+    pairs = zip(r.stdout.splitlines()[1:], plain.stdout.splitlines()[1:], strict=True)
+    for rejected, named in pairs:
+        _, closest, _ = named.split()
+        assert rejected.split()[2:] == ["-", "(closest:", f"{closest})"]
     # the thesis shapes are kept
     assert wrap_then_classify("--shape", "triangle", classify_args=["--reject"]) == "TRIANGLE"
     assert (
