@@ -218,6 +218,15 @@ def test_annotate_grey_image(tmp_path, dtype):
     assert png.read_bytes()[:4] == b"\x89PNG"
 
 
+def test_raw_grey_stream_without_dtype_says_how_to_read_it():
+    result = CliRunner().invoke(scan, ["-", "--width", "40"], input=_grey_belt(np.uint8).tobytes())
+    assert result.exit_code == 1
+    assert result.stderr == (
+        "Error: row 0, column 0: byte value 200, expected 0 or 1 (grey levels? feed them as an "
+        "array, or use --dtype uint8)\n"
+    )
+
+
 def test_raw_grey_stream_ending_mid_row_keeps_the_objects():
     data = _grey_belt(np.uint8).tobytes()[:-7]
     result = CliRunner().invoke(
