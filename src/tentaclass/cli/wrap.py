@@ -79,7 +79,8 @@ def _outline(
     "--laps",
     type=click.FloatRange(min=0, min_open=True),
     callback=finite,
-    help="Choose the link length so the chain turns this many laps.",
+    help="Choose the link length so the chain turns about this many laps (on a polygon the "
+    "turn steps at the corners: the grasp line says the laps reached).",
 )
 @placement_options
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
