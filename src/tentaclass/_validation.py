@@ -398,6 +398,27 @@ def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
     return arr.astype(bool)
 
 
+def as_belt_image(image: ArrayLike, name: str = "image") -> np.ndarray:
+    """A 2-D belt image: bool for 0/1 (or bool) values, else finite grey levels as float64.
+
+    >>> as_belt_image([[0, 1], [1, 0]]).dtype, as_belt_image([[0, 200], [90, 0]]).dtype
+    (dtype('bool'), dtype('float64'))
+    """
+    arr = as_rectangular_array(image, name)
+    if arr.ndim != 2 or arr.size == 0:
+        raise ShapeError(f"{name} must be a non-empty 2-D array (rows, width), got {arr.shape}")
+    if arr.dtype == bool:
+        return arr
+    if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
+        raise InputError(f"{name} must hold bool or grey-level numbers, got dtype {arr.dtype}")
+    if np.all((arr == 0) | (arr == 1)):
+        return arr.astype(bool)
+    grey = arr.astype(np.float64)
+    if not np.all(np.isfinite(grey)):
+        raise InputError(f"{name} holds NaN or infinite grey levels")
+    return grey
+
+
 def check_X(estimator: Any, X: ArrayLike, *, reset: bool = True, **kwargs: Any) -> np.ndarray:
     """scikit-learn's ``validate_data`` for ``X`` alone, typed: the checked array.
 

@@ -228,3 +228,21 @@ def test_quiet_leaves_only_errors_on_stderr(args, line):
     assert quiet.stdout == loud.stdout
     error = CliRunner().invoke(cli, ["-q", "classify", "0 0"])
     assert error.exit_code == 1 and error.stderr.startswith("Error: ANGLES must hold")
+
+
+@pytest.mark.parametrize("verbose, shown", [(0, ["WARNING: w"]), (1, ["INFO: i", "WARNING: w"])])
+def test_library_loggers_set_to_info_stay_quiet_without_verbose(verbose, shown):
+    # Dask's 'distributed' logger is at INFO: '--scheduler local' printed ~40 INFO lines
+    import subprocess
+    import sys
+
+    code = (
+        "import logging\n"
+        "from tentaclass.cli.main import configure_logging\n"
+        f"configure_logging({verbose}, False)\n"
+        "log = logging.getLogger('distributed.scheduler')\n"
+        "logging.getLogger('distributed').setLevel(logging.INFO)\n"
+        "log.info('i'); log.warning('w')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stderr.splitlines() == shown

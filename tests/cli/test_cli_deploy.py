@@ -147,6 +147,12 @@ def test_reject_says_unknown_outside_the_classes():
     # without --reject the closest class is named
     plain = run("classify", input=rows)
     assert "unknown" not in plain.stdout
+    # an 'unknown' row shows no probability (it was '1.000', the known classes' best) and
+    # names the closest class, the one classify names without --reject
+    pairs = zip(r.stdout.splitlines()[1:], plain.stdout.splitlines()[1:], strict=True)
+    for rejected, named in pairs:
+        _, closest, _ = named.split()
+        assert rejected.split()[2:] == ["-", "(closest:", f"{closest})"]
     # the thesis shapes are kept
     assert wrap_then_classify("--shape", "triangle", classify_args=["--reject"]) == "TRIANGLE"
     assert (
@@ -331,6 +337,50 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
             "--out",
             out,
         ),
-        "'x,y' rows",
+        "bad-1.csv, line 2: expected 'x,y' (two numbers), got '1,x'",
     )
     assert not out.exists()
+
+
+def test_outline_csv_header_row_and_bad_lines(tmp_path):
+    from tentaclass.cli.train import read_outline
+
+    path = tmp_path / "plate-1.csv"
+    path.write_text("x,y\n0,0\n4,0  # a comment\n4,4\n0,4\n")  # was refused for its header
+    assert read_outline(path).tolist() == [[0, 0], [4, 0], [4, 4], [0, 4]]
+    path.write_text("0 0\n4 0\n4 4\n")
+    with pytest.raises(ValueError, match=r"plate-1.csv, line 1: expected 'x,y' \(two numbers\)"):
+        read_outline(path)
+    path.write_text("x,y\n")
+    with pytest.raises(ValueError, match=r"plate-1\.csv: no 'x,y' rows found"):
+        read_outline(path)
+
+
+def test_outline_images_two_objects_colour_and_blank(tmp_path, capsys):
+    from PIL import Image
+
+    from tentaclass.cli.options import image_outline
+
+    img = np.full((60, 120), 255, np.uint8)  # black objects on white
+    img[10:50, 5:45] = 0
+    img[20:50, 70:100] = 0
+    Image.fromarray(img).save(tmp_path / "two.png")
+    outline = image_outline(tmp_path / "two.png")
+    assert np.ptp(outline[:, 0]) == np.ptp(outline[:, 1]) == 40  # the larger one
+    err = capsys.readouterr().err
+    assert err == (
+        f"warning: {tmp_path / 'two.png'}: 2 objects; the largest (1,600 px) is used, "
+        "1 other(s) of up to 900 px left out: one object per image\n"
+    )
+    img[20:50, 70:100] = 255
+    img[55:57, 100:102] = 0  # a speck is not another object
+    Image.fromarray(img).save(tmp_path / "one.png")
+    rgb = np.stack([np.where(img == 0, 200, 255), np.where(img == 0, 30, 255), img], axis=-1)
+    Image.fromarray(rgb.astype(np.uint8)).save(tmp_path / "colour.png")
+    assert np.array_equal(
+        image_outline(tmp_path / "colour.png"), image_outline(tmp_path / "one.png")
+    )
+    assert capsys.readouterr().err == ""
+    Image.fromarray(np.full((20, 20), 255, np.uint8)).save(tmp_path / "blank.png")
+    with pytest.raises(ValueError, match=r"blank\.png: no object found"):
+        image_outline(tmp_path / "blank.png")

@@ -206,6 +206,27 @@ def test_grey_16_bit_image(tmp_path, fmt):
     assert last["summary"]["threshold"]["polarity"] == "dark"
 
 
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
+def test_annotate_grey_image(tmp_path, dtype):
+    from PIL import Image
+
+    path, png = tmp_path / "belt.png", tmp_path / "annotated.png"
+    Image.fromarray(_grey_belt(dtype)).save(path)
+    result = CliRunner().invoke(scan, [str(path), "--annotate", str(png), "--summary", "json"])
+    assert result.exit_code == 0, result.output  # was: image must hold only 0 and 1
+    assert [o["label"] for o in _lines(result)[:-1]] == ["square", "rectangle"]
+    assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_raw_grey_stream_without_dtype_says_how_to_read_it():
+    result = CliRunner().invoke(scan, ["-", "--width", "40"], input=_grey_belt(np.uint8).tobytes())
+    assert result.exit_code == 1
+    assert result.stderr == (
+        "Error: row 0, column 0: byte value 200, expected 0 or 1 (grey levels? feed them as an "
+        "array, or use --dtype uint8)\n"
+    )
+
+
 def test_raw_grey_stream_ending_mid_row_keeps_the_objects():
     data = _grey_belt(np.uint8).tobytes()[:-7]
     result = CliRunner().invoke(

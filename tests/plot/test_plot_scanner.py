@@ -59,6 +59,19 @@ def test_plot_belt_and_save(tmp_path):
     assert (tmp_path / "belt.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_plot_belt_draws_grey_levels_as_they_are():
+    belt = make_belt(3, width=64, random_state=1).image
+    grey = np.where(belt, 30, 200).astype(np.uint8)
+    objs = list(LineScanner(64).scan([grey]))
+    assert len(objs) == 3
+    _, ax = plt.subplots()
+    art = plot_belt(grey, objs, ax=ax)
+    assert np.array_equal(art["image"].get_array(), grey.astype(float))
+    assert art["image"].get_clim() == (30.0, 200.0) and art["image"].get_cmap().name == "gray"
+    binary = plot_belt(belt, objs, ax=ax)["image"]  # 0/1: objects black on white
+    assert binary.get_cmap().name == "Greys" and binary.get_array().dtype == bool
+
+
 def test_bad_images():
     with pytest.raises(ValueError, match="2-D"):
         plot_belt(np.zeros((2, 2, 2)), [])

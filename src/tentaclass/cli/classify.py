@@ -219,9 +219,14 @@ def classify(
         click.echo(table_to_json(table))
         return
     click.echo(f"{'index':>5}  {'class':<10} {'probability':>11}")
-    for i, lab, p in zip(table["index"], table["label"], table["probability"], strict=True):
-        shown = "unknown" if lab == "unknown" else str(lab).upper()
-        click.echo(f"{i:>5}  {shown:<10} {p:>11.3f}")
+    closest = np.asarray(model.classes_)[np.argmax(proba, axis=1)] if len(proba) else []
+    for i, lab, p, near in zip(
+        table["index"], table["label"], table["probability"], closest, strict=True
+    ):
+        if lab == "unknown":  # the probabilities are among the known classes: not shown
+            click.echo(f"{i:>5}  {'unknown':<10} {'-':>11}  (closest: {str(near).upper()})")
+        else:
+            click.echo(f"{i:>5}  {str(lab).upper():<10} {p:>11.3f}")
 
 
 def _many(

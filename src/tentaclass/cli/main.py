@@ -104,10 +104,23 @@ def cli(ctx: click.Context, verbose: int, quiet: bool) -> None:
 
     Tentacle case: a planar chain's joint angles -> the object's class.
     """
-    level = logging.ERROR if quiet else (logging.WARNING - 10 * min(verbose, 2))
-    logging.basicConfig(stream=sys.stderr, level=level, format="%(levelname)s: %(message)s")
+    configure_logging(verbose, quiet)
     ctx.ensure_object(dict)
     ctx.obj["quiet"] = quiet
+
+
+def configure_logging(verbose: int, quiet: bool) -> None:
+    """Log records of ``-v``/``-q``'s level and above to stderr, whichever logger sends them.
+
+    The level is set on the handler too: libraries that set their own loggers
+    to INFO (Dask's ``distributed`` does) would otherwise print every record
+    through the root handler (dozens of lines for ``--scheduler local``).
+    """
+    level = logging.ERROR if quiet else (logging.WARNING - 10 * min(verbose, 2))
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setLevel(level)
+    handler.setFormatter(logging.Formatter("%(levelname)s: %(message)s"))
+    logging.basicConfig(level=level, handlers=[handler])
 
 
 def _warning_line(

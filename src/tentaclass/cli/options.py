@@ -216,6 +216,41 @@ def note(message: str) -> None:
     click.echo(message, err=True)
 
 
+#: Other objects at least this fraction of the largest one's area make ``image_outline`` warn.
+OTHER_OBJECT_SHARE = 0.1
+
+
+def image_outline(path: Path) -> np.ndarray:
+    """The outline of the largest object of an image file (``--mask``, ``--outlines``).
+
+    Warns on stderr when the image holds other objects of at least
+    :data:`OTHER_OBJECT_SHARE` of its area (they are left out), and refuses an
+    image with no object in one line naming the file.
+    """
+    from scipy import ndimage
+
+    from ..shapes import from_mask, read_silhouette
+
+    try:
+        mask = read_silhouette(path)
+    except OSError as exc:
+        raise ValueError(f"{path}: not a readable image ({exc.strerror or exc})") from None
+    if not mask.any():
+        raise ValueError(
+            f"{path}: no object found (objects are the pixels on the other side of half the "
+            "brightest level from the border): is the image blank, or the object too faint?"
+        )
+    labels, _ = ndimage.label(mask, structure=np.ones((3, 3), bool))
+    sizes = np.sort(np.bincount(labels.ravel())[1:])[::-1]
+    others = sizes[1:][sizes[1:] >= OTHER_OBJECT_SHARE * sizes[0]]
+    if others.size:
+        note(
+            f"warning: {path}: {others.size + 1} objects; the largest ({sizes[0]:,} px) is used, "
+            f"{others.size} other(s) of up to {others[0]:,} px left out: one object per image"
+        )
+    return from_mask(mask)
+
+
 def given(ctx: click.Context, *names: str) -> list[str]:
     """The options among ``names`` (parameter names) set on the command line, as flags.
 

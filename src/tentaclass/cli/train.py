@@ -18,6 +18,7 @@ from .options import (
     OutputFile,
     dask_client,
     finite,
+    image_outline,
     input_file_option,
     load_npy,
     number_option,
@@ -175,29 +176,45 @@ def read_labels(path: Path) -> dict[str, str]:
 
 def read_outline(path: Path) -> np.ndarray:
     """One outline from an image (largest object), a CSV of ``x,y`` rows or an ``.npy``."""
-    from ..shapes import as_outline, from_mask, read_silhouette
+    from ..shapes import as_outline
 
     suffix = path.suffix.lower()
     if suffix in (".png", ".gif", ".bmp", ".jpg", ".jpeg", ".tif", ".tiff", ".pbm", ".pgm"):
-        try:
-            mask = read_silhouette(path)
-        except OSError as exc:
-            raise ValueError(f"{path}: not a readable image ({exc})") from None
-        if not mask.any():
-            raise ValueError(f"{path}: the image holds no object (nonzero pixels)")
-        return from_mask(mask)
-    if suffix == ".npy":
-        points = load_npy(path)
-    else:
-        try:
-            rows = [r for r in csv.reader(read_text(path).splitlines()) if r and any(r)]
-            points = np.array([[float(v) for v in r] for r in rows if not r[0].startswith("#")])
-        except (ValueError, UnicodeDecodeError):
-            raise ValueError(f"{path}: expected 'x,y' rows of numbers") from None
+        return image_outline(path)
+    points = load_npy(path) if suffix == ".npy" else _read_points(path)
     try:
         return as_outline(points, str(path))
     except ValueError as exc:
         raise ValueError(f"{path}: {str(exc).splitlines()[0]}") from None
+
+
+def _read_points(path: Path) -> np.ndarray:
+    """``x,y`` rows of a CSV file; ``#`` comments and a first row of column names are skipped."""
+    try:
+        lines = read_text(path).splitlines()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file of 'x,y' rows") from None
+    points: list[list[float]] = []
+    first = True
+    for lineno, line in enumerate(lines, 1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        fields = [f.strip() for f in next(csv.reader([line]))]
+        try:
+            values = [float(f) for f in fields]
+        except ValueError:
+            if first and len(fields) == 2 and all(_not_angle(f) for f in fields):
+                first = False
+                continue  # a header row such as 'x,y'
+            values = []
+        first = False
+        if len(values) != 2:
+            raise ValueError(f"{path}, line {lineno}: expected 'x,y' (two numbers), got {line!r}")
+        points.append(values)
+    if not points:
+        raise ValueError(f"{path}: no 'x,y' rows found")
+    return np.array(points)
 
 
 def _outline_files(patterns: tuple[str, ...]) -> list[Path]:

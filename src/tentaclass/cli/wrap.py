@@ -13,6 +13,7 @@ from ..errors import TentaclassError
 from .options import (
     OutputFile,
     finite,
+    image_outline,
     json_option,
     note,
     object_options,
@@ -41,7 +42,7 @@ def _outline(
         if size is not None or vertices is not None:
             flag = "--size" if size is not None else "--vertices"
             raise click.UsageError(f"{flag} does not go with --mask (the image gives the object)")
-        return shapes.from_mask(shapes.read_silhouette(mask))
+        return image_outline(mask)
     shape = shape or "square"
     if vertices is not None and shape not in ("polygon", "triangle"):
         raise click.UsageError(f"--vertices is for --shape polygon or triangle, not {shape}")
@@ -78,7 +79,8 @@ def _outline(
     "--laps",
     type=click.FloatRange(min=0, min_open=True),
     callback=finite,
-    help="Choose the link length so the chain turns this many laps.",
+    help="Choose the link length so the chain turns about this many laps (on a polygon the "
+    "turn steps at the corners: the grasp line says the laps reached).",
 )
 @placement_options
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_binary_grid
+from .._validation import as_belt_image, as_binary_grid
 from ..errors import InputError
 from ..scanner import (
     Inspection,
@@ -139,7 +139,8 @@ def plot_belt(
     Parameters
     ----------
     image : array_like of shape (n_rows, width)
-        The belt (rows top to bottom, as they passed the sensor).
+        The belt (rows top to bottom, as they passed the sensor): binary
+        (objects black) or grey levels, drawn as they are (darkest black).
     objects : sequence of ScannedObject
         Records from a :class:`~tentaclass.scanner.LineScanner` on that belt.
     ax : matplotlib Axes, optional
@@ -167,11 +168,13 @@ def plot_belt(
     """
     from matplotlib.patches import Rectangle
 
-    img = as_binary_grid(image, "image")
-    if img.ndim != 2:
-        raise InputError(f"image must be 2-D, got shape {img.shape}")
+    img = as_belt_image(image, "image")
     ax = axes_or_new(ax)
-    kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
+    if img.dtype == bool:
+        kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
+    else:  # grey levels as the camera saw them
+        low, high = float(img.min()), float(img.max())
+        kw = {"cmap": "gray", "vmin": low, "vmax": max(high, low + 1), "interpolation": "nearest"}
     kw.update(imshow_kwargs)
     art = ax.imshow(img, **kw)
     boxes, labels, pts, colors = [], [], [], []
@@ -212,7 +215,7 @@ def save_belt_figure(
     """Draw :func:`plot_belt` on a figure sized to the belt and save it (PNG, ...)."""
     from matplotlib.figure import Figure
 
-    img = np.asarray(image)
+    img = as_belt_image(image, "image")
     h, w = img.shape
     scale = min(1.0, 2400.0 / max(h, w)) * 3 / dpi
     fig = Figure(figsize=(max(4.0, w * scale + 1.5), max(3.0, h * scale + 1.0)))

@@ -239,7 +239,7 @@ class LineScanner:
             hint = (
                 f" (the character {chr(arr[i, j])!r}: text rows? use --format text)"
                 if arr[i, j] in (48, 49)
-                else ""
+                else " (grey levels? feed them as an array, or use --dtype uint8)"
             )
             raise InputError(
                 f"row {self.rows_seen + i}, column {j}: byte value {arr[i, j]}, "
