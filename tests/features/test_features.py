@@ -299,8 +299,11 @@ def test_matmul_tiles_called_from_several_threads_at_once(rng):
         got = list(pool.map(fourier_features, qs * 3))
         # each call's hold on BLAS ends with the last of them, not before nor never
         assert {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"} == {2}
+    # OpenBLAS may round a few rows of a product differently when it is called
+    # from a thread other than the main one (seen on AMD EPYC: 1 ulp in the rows
+    # at its block edges), so the same numbers up to that rounding
     for g, e in zip(got, expected * 3, strict=True):
-        assert np.array_equal(g, e)
+        np.testing.assert_allclose(g, e, rtol=1e-12, atol=1e-12)
 
 
 @pytest.mark.parametrize(
