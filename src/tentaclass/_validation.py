@@ -584,7 +584,10 @@ below 1e-12 of its size the joints cannot be placed apart (use link_length >= 2e
 
 
 def check_thickness_fits(thickness: float, diameter: float) -> None:
-    """Refuse a chain thicker than the object's diameter: it could not lie on it.
+    """Refuse a chain thicker than the object's diameter, or too thin to build around it.
+
+    Below ``MIN_LINK_FRACTION`` of the diameter, the outline grown by half the
+    thickness is the outline itself in float64.
 
     >>> check_thickness_fits(3.0, 2.0)
     Traceback (most recent call last):
@@ -596,6 +599,13 @@ that thick cannot lie on it (use thickness <= 2)
         raise InputError(
             f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
             f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
+        )
+    thinnest = MIN_LINK_FRACTION * diameter
+    if thickness < thinnest:
+        raise InputError(
+            f"thickness {thickness:g} is too thin for an object of diameter {diameter:g}: "
+            f"below {MIN_LINK_FRACTION:g} of its size the chain's surface cannot be built "
+            f"(use thickness >= {thinnest:g})"
         )
 
 
@@ -706,6 +716,8 @@ def as_times(t: ArrayLike) -> FloatArray:
 
 def as_torques(value: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
     """The output of a torque function, broadcast to the state's shape."""
+    if value is None:
+        raise InputError("torque_fn(t, q, qd) returned None: it must return the joint torques")
     tau = as_float_array(value, "torque_fn(t, q, qd)")
     try:
         return np.broadcast_to(tau, shape)
