@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_binary_grid
+from .._validation import as_binary_grid, as_binary_grid_2d, check_positive_int
 from ..errors import InputError
 from ..scanner import (
     Inspection,
@@ -206,16 +206,28 @@ def plot_belt(
     return {"image": art, "boxes": boxes, "labels": labels, "marks": marks}
 
 
+#: Matplotlib's image renderer (Agg) draws fewer than 2**16 pixels along each side.
+_MAX_FIGURE_PIXELS = 2**16
+
+
 def save_belt_figure(
     image: Any, objects: Sequence[ScannedObject], path: str | Path, *, dpi: int = 100
 ) -> None:
     """Draw :func:`plot_belt` on a figure sized to the belt and save it (PNG, ...)."""
     from matplotlib.figure import Figure
 
-    img = np.asarray(image)
+    img = as_binary_grid_2d(image, "image")
     h, w = img.shape
+    dpi = check_positive_int(dpi, "dpi")
     scale = min(1.0, 2400.0 / max(h, w)) * 3 / dpi
-    fig = Figure(figsize=(max(4.0, w * scale + 1.5), max(3.0, h * scale + 1.0)))
+    size = (max(4.0, w * scale + 1.5), max(3.0, h * scale + 1.0))
+    pixels = max(size) * dpi
+    if pixels >= _MAX_FIGURE_PIXELS:
+        raise InputError(
+            f"dpi {dpi:,} would make a figure {pixels:,.0f} pixels across, more than the "
+            f"{_MAX_FIGURE_PIXELS:,} matplotlib draws: use a smaller dpi"
+        )
+    fig = Figure(figsize=size)
     ax = fig.add_subplot()
     plot_belt(img, objects, ax=ax)
     fig.tight_layout()
