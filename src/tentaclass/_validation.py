@@ -466,6 +466,22 @@ def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     return classes, y_idx
 
 
+def check_unknown_label(unknown_label: object, classes: np.ndarray) -> None:
+    """Refuse a rejection label that is also a class: a rejection would read as that class.
+
+    >>> check_unknown_label("unknown", np.array(["cat", "unknown"]))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: unknown_label 'unknown' is one of the classes: a rejected \
+sample could not be told from that class; choose another unknown_label (or rename the class)
+    """
+    if any(c == unknown_label for c in classes.tolist()):
+        raise InputError(
+            f"unknown_label {unknown_label!r} is one of the classes: a rejected sample could "
+            "not be told from that class; choose another unknown_label (or rename the class)"
+        )
+
+
 def _input_error(exc: Exception) -> Exception:
     """``exc`` as an :class:`InputError` with its message (tentaclass errors are kept)."""
     if isinstance(exc, InputError):
