@@ -600,10 +600,7 @@ below 1e-12 of its size the joints cannot be placed apart (use link_length >= 2e
 
 
 def check_thickness_fits(thickness: float, diameter: float) -> None:
-    """Refuse a chain thicker than the object's diameter, or too thin to build around it.
-
-    Below ``MIN_LINK_FRACTION`` of the diameter, the outline grown by half the
-    thickness is the outline itself in float64.
+    """Refuse a chain thicker than the object's diameter: it could not lie on it.
 
     >>> check_thickness_fits(3.0, 2.0)
     Traceback (most recent call last):
@@ -616,11 +613,26 @@ that thick cannot lie on it (use thickness <= 2)
             f"thickness {thickness:g} is larger than the object (diameter {diameter:g}): "
             f"a chain that thick cannot lie on it (use thickness <= {diameter:g})"
         )
+
+
+def check_thickness_builds(thickness: float, diameter: float) -> None:
+    """Refuse links too thin to build as bodies: below ``MIN_LINK_FRACTION`` of the diameter.
+
+    A geometric wrap takes such a thickness as none; a physical chain's links
+    are built from it, and the outline grown by half of it is the outline
+    itself in float64.
+
+    >>> check_thickness_builds(1e-300, 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: thickness 1e-300 is too thin for an object of diameter 2: \
+below 1e-12 of its size the links cannot be built (use thickness >= 2e-12)
+    """
     thinnest = MIN_LINK_FRACTION * diameter
     if thickness < thinnest:
         raise InputError(
             f"thickness {thickness:g} is too thin for an object of diameter {diameter:g}: "
-            f"below {MIN_LINK_FRACTION:g} of its size the chain's surface cannot be built "
+            f"below {MIN_LINK_FRACTION:g} of its size the links cannot be built "
             f"(use thickness >= {thinnest:g})"
         )
 

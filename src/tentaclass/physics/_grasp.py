@@ -14,6 +14,7 @@ from .._validation import (
     check_links_fit,
     check_positive_float,
     check_positive_int,
+    check_thickness_builds,
     check_thickness_fits,
 )
 from ..errors import InputError
@@ -322,6 +323,7 @@ def _prepare(
     s = 1.0 / float(ln.mean())  # the simulation runs in units of the mean link length
     thickness = 0.1 / s if thickness is None else check_positive_float(thickness, "thickness")
     check_thickness_fits(thickness, diameter)
+    check_thickness_builds(thickness, diameter)
     r = 0.5 * thickness * s
     mirror = direction == "cw"
 
