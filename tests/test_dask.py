@@ -25,6 +25,7 @@ import tentaclass as tc  # noqa: E402
 from tentaclass import _dask  # noqa: E402
 from tentaclass.cli.main import cli  # noqa: E402
 from tentaclass.datasets import reference_tentacle, synthetic_tentacle  # noqa: E402
+from tentaclass.errors import InputError  # noqa: E402
 from tentaclass.features import canonical_direction, last_lap, periodic_signal  # noqa: E402
 from tentaclass.shapes import circle, rectangle, square, triangle  # noqa: E402
 
@@ -495,3 +496,26 @@ def test_worker_dies_mid_job(client, data, tmp_path):
             if key.startswith("p"):
                 np.testing.assert_allclose(got[key], ref[key], rtol=1e-12, atol=1e-300)
     client.wait_for_workers(2, timeout=30)
+
+
+@pytest.mark.parametrize(
+    ("client", "match"),
+    [
+        ("localhost:8786", r"got str \(to use a scheduler at an address, pass distributed.Client"),
+        (1, "client must be a distributed.Client or None, got int$"),
+    ],
+)
+def test_a_client_that_is_not_a_client_is_refused(client, match):
+    # was an AttributeError ('str' object has no attribute 'scheduler_info')
+    with pytest.raises(InputError, match=match):
+        synthetic_tentacle(5, client=client)
+
+
+def test_wrap_many_refuses_unknown_chunk_sizes():
+    starts = da.linspace(0.0, 0.5, 4, chunks=2)
+    unknown = starts[starts > -1]  # boolean indexing: chunk sizes NaN
+    with pytest.raises(InputError, match=r"unknown ones .*: call \.compute_chunk_sizes\(\)"):
+        tc.wrap_many(square(1.0), 16, 0.2, starts=unknown)
+    known = unknown.compute_chunk_sizes()
+    got = tc.wrap_many(square(1.0), 16, 0.2, starts=known).angles.compute()
+    np.testing.assert_array_equal(got, tc.wrap_many(square(1.0), 16, 0.2, starts=starts).angles)

@@ -152,3 +152,24 @@ def test_fuzz_found_points_near_the_float_limit():
     r = resample_closed(tri, 7)
     assert np.all(np.isfinite(r))
     np.testing.assert_allclose(r / 1e300, resample_closed(tri / 1e300, 7))
+
+
+@pytest.mark.parametrize(
+    ("lengths", "base", "match"),
+    [
+        (
+            1e308,
+            (0.0, 0.0),
+            r"link_lengths up to 1e\+308 over 16 links \(from a base at 0\) reach inf",
+        ),
+        (1e299, (0.0, 0.0), r"reach 1.6e\+300: the joint positions would overflow float64"),
+        (1.0, (1e308, 0.0), r"from a base at 1e\+308\) reach 1e\+308"),
+    ],
+)
+def test_joint_positions_beyond_float64_are_refused(lengths, base, match):
+    square = np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)
+    with pytest.raises(InputError, match=match):
+        angles_to_points(square, lengths, base=base)
+    # the same chain, rescaled into range, closes
+    p = angles_to_points(square, 1e290)
+    assert np.all(np.isfinite(p)) and np.allclose(p[-1], p[0], atol=1e276)

@@ -440,6 +440,11 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
         for p in arrays:
             if p.ndim != 1:
                 raise InputError(f"a dask parameter array must be 1-D, got shape {p.shape}")
+            if any(math.isnan(c) for c in p.chunks[0]):
+                raise InputError(
+                    "a dask parameter array must have known chunk sizes, got unknown ones "
+                    "(NaN, e.g. after boolean indexing): call .compute_chunk_sizes() first"
+                )
         chunks, size = arrays[0].chunks[0], arrays[0].shape[0]
         many = not (isinstance(outlines, np.ndarray) and outlines.ndim == 2) and not (
             isinstance(outlines, Sequence) and len(outlines) > 0 and np.ndim(outlines[0]) == 1
@@ -485,6 +490,26 @@ def wrap_blocks(wrap_many: Callable, outlines: Any, n_links: int, link_length: A
     return batch
 
 
+def check_client(client: Any) -> None:
+    """Refuse a ``client`` that is neither None nor a ``distributed.Client``.
+
+    >>> check_client("tcp://10.0.0.1:8786")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: client must be a distributed.Client or None, got str \
+(to use a scheduler at an address, pass distributed.Client('tcp://10.0.0.1:8786'))
+    """
+    if client is None or all(
+        callable(getattr(client, name, None)) for name in ("submit", "gather", "scheduler_info")
+    ):
+        return
+    hint = f" (to use a scheduler at an address, pass distributed.Client({client!r}))"
+    raise InputError(
+        f"client must be a distributed.Client or None, got {type(client).__name__}"
+        + (hint if isinstance(client, str) else "")
+    )
+
+
 def split_rows(func: Callable, *args: Any, client: Any = None, **kwargs: Any) -> Any:
     """``func(*args, **kwargs)`` run on slices of rows on ``client``, outputs joined.
 
@@ -494,6 +519,7 @@ def split_rows(func: Callable, *args: Any, client: Any = None, **kwargs: Any) ->
     rows first: then the result is identical with or without a client and for
     any number of workers. Without a client ``func`` runs once, here.
     """
+    check_client(client)
     if client is None:
         return func(*args, **kwargs)
     n = len(args[0])
@@ -516,6 +542,7 @@ def split_rows(func: Callable, *args: Any, client: Any = None, **kwargs: Any) ->
 @contextlib.contextmanager
 def on_client(client: Any) -> Iterator[Any]:
     """``client`` as the default Dask client and the joblib backend (no-op for None)."""
+    check_client(client)
     if client is None:
         yield None
         return
@@ -918,6 +945,7 @@ def map_files(
     list
         Each job's return value, in input order.
     """
+    check_client(client)
     if client is None:
         return [job(i, o, *args) for i, o in zip(inputs, outputs, strict=True)]
     from distributed import progress as dask_progress

@@ -487,6 +487,22 @@ def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     return classes, y_idx
 
 
+def check_unknown_label(unknown_label: object, classes: np.ndarray) -> None:
+    """Refuse a rejection label that is also a class: a rejection would read as that class.
+
+    >>> check_unknown_label("unknown", np.array(["cat", "unknown"]))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: unknown_label 'unknown' is one of the classes: a rejected \
+sample could not be told from that class; choose another unknown_label (or rename the class)
+    """
+    if any(c == unknown_label for c in classes.tolist()):
+        raise InputError(
+            f"unknown_label {unknown_label!r} is one of the classes: a rejected sample could "
+            "not be told from that class; choose another unknown_label (or rename the class)"
+        )
+
+
 def _input_error(exc: Exception) -> Exception:
     """``exc`` as an :class:`InputError` with its message (tentaclass errors are kept)."""
     if isinstance(exc, InputError):
@@ -620,6 +636,28 @@ that thick cannot lie on it (use thickness <= 2)
         )
 
 
+def check_thickness_builds(thickness: float, diameter: float) -> None:
+    """Refuse links too thin to build as bodies: below ``MIN_LINK_FRACTION`` of the diameter.
+
+    A geometric wrap takes such a thickness as none; a physical chain's links
+    are built from it, and the outline grown by half of it is the outline
+    itself in float64.
+
+    >>> check_thickness_builds(1e-300, 2.0)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: thickness 1e-300 is too thin for an object of diameter 2: \
+below 1e-12 of its size the links cannot be built (use thickness >= 2e-12)
+    """
+    thinnest = MIN_LINK_FRACTION * diameter
+    if thickness < thinnest:
+        raise InputError(
+            f"thickness {thickness:g} is too thin for an object of diameter {diameter:g}: "
+            f"below {MIN_LINK_FRACTION:g} of its size the links cannot be built "
+            f"(use thickness >= {thinnest:g})"
+        )
+
+
 def check_laps(laps: float, n_links: int) -> None:
     """Refuse more laps than a chain can close: every lap takes at least two links.
 
@@ -727,6 +765,8 @@ def as_times(t: ArrayLike) -> FloatArray:
 
 def as_torques(value: ArrayLike, shape: tuple[int, ...]) -> FloatArray:
     """The output of a torque function, broadcast to the state's shape."""
+    if value is None:
+        raise InputError("torque_fn(t, q, qd) returned None: it must return the joint torques")
     tau = as_float_array(value, "torque_fn(t, q, qd)")
     try:
         return np.broadcast_to(tau, shape)

@@ -29,6 +29,11 @@ from .errors import InputError, ShapeError
 __all__ = ["angles_to_points", "points_to_angles", "resample_closed"]
 
 
+#: Farthest joint from the origin :func:`angles_to_points` places: the sums of
+#: coordinates that follow (perimeters, areas) stay within float64.
+_MAX_REACH = 1e300
+
+
 def _link_lengths(link_lengths: ArrayLike, n: int) -> FloatArray:
     lengths = as_float_array(link_lengths, "link_lengths")
     if lengths.ndim > 0 and lengths.shape[-1] not in (1, n):
@@ -98,6 +103,14 @@ def angles_to_points(
     if base.shape[-1] != 2:
         raise ShapeError(f"base must have shape (..., 2), got shape {base.shape}")
     heading = as_float_array(heading, "heading")
+    with np.errstate(over="ignore"):  # (an infinite reach is refused)
+        reach = float(np.abs(base).max()) + n * float(lengths.max())
+    if not reach <= _MAX_REACH:
+        raise InputError(
+            f"link_lengths up to {float(lengths.max()):g} over {n} links (from a base at "
+            f"{float(np.abs(base).max()):g}) reach {reach:g}: the joint positions would "
+            f"overflow float64 (at most {_MAX_REACH:g}); rescale the lengths"
+        )
     phi = np.cumsum(q, axis=-1) + heading[..., None]
     steps = np.stack([np.cos(phi), np.sin(phi)], axis=-1) * np.asarray(lengths)[..., None]
     batch = np.broadcast_shapes(steps.shape[:-2], base.shape[:-1])

@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from .errors import InputError
+
 __all__ = ["classification_table", "table_records", "table_to_json"]
 
 
@@ -37,7 +39,14 @@ def classification_table(
     >>> sorted(t), t["probability"].tolist()
     (['index', 'label', 'p_a', 'p_b', 'probability'], [0.9])
     """
-    proba = np.asarray(proba, dtype=np.float64).reshape(len(labels), len(classes))
+    proba = np.asarray(proba, dtype=np.float64)
+    n, k = len(labels), len(classes)
+    if proba.shape != (n, k) and not (proba.size == 0 and n * k == 0):
+        raise InputError(
+            f"proba must have shape (n_samples, n_classes) = ({n}, {k}) for {n} labels and "
+            f"{k} classes, got shape {proba.shape}"
+        )
+    proba = proba.reshape(n, k)
     table: dict[str, np.ndarray] = {
         "index": np.arange(len(labels)),
         "label": np.asarray(labels).astype(str),

@@ -406,3 +406,19 @@ def test_a_sample_whose_distances_overflow_is_refused(value):
     q = np.vstack([X[:1], np.r_[value, X[0][1:]][None]])
     with pytest.raises(InputError, match=r"X: sample 1 lies too far from the training patterns"):
         model.predict(q)
+
+
+def test_a_rejection_label_that_is_a_class_is_refused_at_fit():
+    rng = np.random.default_rng(0)
+    X, y = rng.normal(size=(20, 8)), np.repeat(["a", "b"], 10)
+    # was accepted: rejected samples of class b were answered "a"
+    clf = PNNClassifier(reject_below=0.9, unknown_label="a")  # errors at fit, not here
+    with pytest.raises(InputError, match=r"^unknown_label 'a' is one of the classes"):
+        clf.fit(X, y)
+    with pytest.raises(InputError, match=r"^unknown_label 1 is one of the classes"):
+        PNNClassifier(reject_below=0.9, unknown_label=1).fit(X, np.repeat([1, 2], 10))
+    with pytest.raises(InputError, match=r"^unknown_label 'unknown' is one of the classes"):
+        FourierClassifier(reject_below=0.9).fit(np.tile(X, 2), np.repeat(["unknown", "b"], 10))
+    # without rejection the label is never answered: any class names are fine
+    assert PNNClassifier(unknown_label="a").fit(X, y).predict(X[:1])[0] in ("a", "b")
+    assert PNNClassifier(reject_below=0.9, unknown_label="1").fit(X, np.repeat([1, 2], 10))

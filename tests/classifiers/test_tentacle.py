@@ -344,3 +344,12 @@ def test_one_class_is_refused():
     X = wraps_of(SHAPES["square"], 1.5, 0.0)
     with pytest.raises(InputError, match="y must hold at least 2 classes, got one class"):
         TentacleClassifier().fit(X, ["square"] * len(X))
+
+
+def test_a_rejection_label_that_is_a_class_is_refused_at_fit():
+    from tentaclass.errors import InputError
+
+    X, y = synthetic_tentacle(24, 32, random_state=3, return_X_y=True)
+    clf = TentacleClassifier(reject=True, unknown_label=str(y[0]))
+    with pytest.raises(InputError, match=rf"^unknown_label '{y[0]}' is one of the classes"):
+        clf.fit(X, y)

@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 from strategies import closed_laps, examples
 from tentaclass import angles_to_points, points_to_angles
 from tentaclass._validation import MAX_ANGLE
+from tentaclass.errors import InputError
 from tentaclass.features import (
     AngleSpectrum,
     FourierFeatures,
@@ -326,3 +327,11 @@ def test_bad_angle_deep_in_a_large_batch_is_refused(bad, match, threads, rng, mo
     q[4321, 17] = bad
     with threadpool_limits(threads, user_api="blas"), pytest.raises(ValueError, match=match):
         fourier_features(q, method="matmul")
+
+
+def test_dft_layer_too_large_to_hold_is_refused():
+    # n = 1e6 asked numpy for 7.28 TiB (MemoryError)
+    with pytest.raises(InputError, match=r"^the DFT layer of n = 1,000,000 .* would hold 2,000"):
+        dft_layer(10**6)
+    with pytest.raises(InputError, match=r"n = 22,361 .* 1,000,028,642 values, more than"):
+        dft_layer(22_361)

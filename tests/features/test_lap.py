@@ -90,3 +90,16 @@ def test_straight_chain_has_no_lap_and_falls_back_without_error():
 def test_fuzz_found_huge_angles_are_refused(q):
     with pytest.raises(ValueError, match=r"beyond 2\*\*20 turns"):
         last_lap(q)
+
+
+@pytest.mark.parametrize("scale", [1e-320, 1e-100, 1e100, 8e307])
+def test_only_the_ratios_of_the_link_lengths_matter(scale):
+    square = np.tile([0.0, 0.0, 0.0, np.pi / 2], 4)
+    q = np.concatenate([[0.0, 0.0], square, square[:6]])
+    lengths = np.linspace(1.0, 2.0, len(q))
+    ref, ref_closed = last_lap(q, 16, lengths)
+    lap, closed = last_lap(q, 16, lengths * scale)  # 1e308 overflowed, 1e-320 lost precision
+    assert closed == ref_closed
+    np.testing.assert_allclose(lap, ref, atol=1e-12)
+    lap, _ = last_lap(q, 16, scale)
+    np.testing.assert_allclose(lap, last_lap(q, 16)[0], atol=1e-12)

@@ -114,3 +114,59 @@ def test_parameters_cannot_be_reassigned():
         "PlanarChain(link_lengths=[1.0, 2.0], masses=[1.0, 1.0], com=[0.5, 0.5], "
         "inertia=[0.08333333333333333, 0.3333333333333333], gravity=9.81)"
     )
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"link_lengths": [1e200, 1e200]}, r"mass matrix of scale inf .* express them in other"),
+        ({"masses": 1e308}, r"mass matrix of scale inf"),
+        ({"link_lengths": [1e-200, 1e-200]}, r"scale 0 .* outside \[1e-200, 1e\+200\]"),
+        ({"gravity": 1e300}, r"gravity 1e\+300 gives gravity torques of scale 4e\+300"),
+    ],
+)
+def test_dynamics_refuse_parameters_beyond_float64(kwargs, match):
+    chain = PlanarChain(**({"link_lengths": [1.0, 1.0]} | kwargs))
+    chain.forward_kinematics([0.1, 0.2])  # kinematics take any lengths
+    with pytest.raises(InputError, match=match):
+        chain.forward_dynamics([0.1, 0.2], [0.0, 0.0], [0.0, 0.0])
+
+
+@pytest.mark.parametrize(
+    ("method", "args", "what"),
+    [
+        ("coriolis", ([0.0, 0.0], [1e300, 0.0]), "the Coriolis torques"),
+        ("bias_torques", ([0.0, 0.0], [1e300, 0.0]), "the bias torques"),
+        ("inverse_dynamics", ([0.0, 0.0], [0.0, 0.0], [1e308, -1e308]), "the joint torques"),
+        ("forward_dynamics", ([0.0, 0.0], [0.0, 0.0], [1e308, -1e308]), "the joint accelerations"),
+        ("energy", ([0.0, 0.0], [1e200, 0.0]), "the energies"),
+    ],
+)
+def test_results_that_overflow_are_refused(method, args, what):
+    chain = PlanarChain([1.0, 1.0])
+    with pytest.raises(InputError, match=rf"^{what} overflow float64"):
+        getattr(chain, method)(*args)
+
+
+def test_singular_mass_matrix_names_the_point_masses():
+    chain = PlanarChain([1.0, 1.0, 1.0], inertia=0.0, com=[0.0, 0.5, 0.5])
+    with pytest.raises(InputError, match=r"mass matrix is singular .* point-mass links"):
+        chain.forward_dynamics([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+
+
+def test_a_diverging_simulation_is_refused_not_returned_as_nan():
+    chain = PlanarChain([1.0, 1.0, 1.0])
+    # steps of 2 s: RK4 on a pendulum chain blows up within a few steps
+    with pytest.raises(InputError, match=r"simulation diverged between t = 4.08163 and 6.12245"):
+        chain.simulate([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], None, np.linspace(0.0, 100.0, 50))
+    with pytest.raises(InputError, match="torques too large"):
+        chain.simulate([0.0] * 3, [0.0] * 3, lambda t, q, qd: 1e308, [0.0, 1.0])
+    # small steps of the same motion stay finite
+    q, qd = chain.simulate([1.0, 0.0, 0.0], [0.0] * 3, None, np.linspace(0.0, 1.0, 201))
+    assert np.all(np.isfinite(q)) and np.all(np.isfinite(qd))
+
+
+def test_torque_function_returning_none_is_named():
+    chain = PlanarChain([1.0, 1.0])
+    with pytest.raises(InputError, match=r"^torque_fn\(t, q, qd\) returned None"):
+        chain.simulate([0.0, 0.0], [0.0, 0.0], lambda t, q, qd: None, [0.0, 0.1])

@@ -226,6 +226,25 @@ def test_controller_that_could_never_finish_is_refused(kwargs, match):
         CurlController(**kwargs)
 
 
+def test_step_budget_counts_the_time_limit_and_the_longest_chain():
+    # a short time limit bounds the steps of a small timestep: the grasp runs and stops
+    g = grasp(square(2.0), PlanarChain([0.5] * 8), timestep=1e-6, time_limit=0.002)
+    assert not g.complete and "time limit" in g.reason and g.steps <= 2005
+    # a rest_time longer than every settle: never at rest, flagged (was an OverflowError)
+    never = CurlController(rest_time=1e300, settle_time=0.5)
+    g = grasp(square(2.0), PlanarChain([0.5] * 12), controller=never)
+    assert not g.complete and "did not come to rest within 0.5 s" in g.reason
+
+
+def test_batch_and_model_refuse_what_is_not_a_chain():
+    with pytest.raises(InputError, match="must be a PlanarChain or a sequence of them, got str"):
+        grasp_many(square(2.0), "chain")
+    with pytest.raises(InputError, match="chain must hold PlanarChain objects, got float"):
+        grasp_many(square(2.0), [1.0, 1.0], starts=[0.0, 0.5])
+    with pytest.raises(InputError, match="chain must be a PlanarChain, got list"):
+        build_model([1.0, 1.0])
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
@@ -244,6 +263,15 @@ def test_controller_that_could_never_finish_is_refused(kwargs, match):
         ({"chain": PlanarChain([1e-300] * 8)}, "link_length 1e-300 is too short for an object"),
         ({"chain": PlanarChain([0.001] * 497)}, "MuJoCo builds chains of at most 496 links"),
         ({"chain": PlanarChain([0.001] * 10**6)}, "at most 496 links .*, got 1,000,000"),
+        ({"thickness": 1e-300}, r"thickness 1e-300 is too thin .* \(use thickness >= 2.8"),
+        ({"start": None}, "start must be a finite number, got None"),
+        ({"start": [0.1]}, r"start must be a finite number, got \[0.1\]"),
+        ({"frames": "2"}, "frames must be an integer, got '2'"),
+        ({"frames": -1}, "frames must be at least 0, got -1"),
+        # simulations no call could finish: refused before a step is taken
+        ({"timestep": 1e-9}, r"up to 3.11e\+10 simulation steps \(31.11 s in steps of 1e-09 s"),
+        ({"controller": CurlController(control_steps=10**9)}, r"up to 1e\+09 simulation steps"),
+        ({"controller": CurlController(speed=1e-300)}, r"up to 2.51e\+304 simulation steps"),
     ],
 )
 def test_bad_input(kwargs, match):

@@ -114,3 +114,8 @@ def test_grasp_many_quasi_static_matches_single_calls():
     for o, s, d, g in zip(outs, [0.1, 0.6], ["ccw", "cw"], many, strict=True):
         one = quasi_static_grasp(o, chain, start=s, direction=d)
         np.testing.assert_allclose(g.angles, one.angles)
+
+
+def test_a_thickness_too_thin_to_build_is_refused():
+    with pytest.raises(InputError, match=r"thickness 1e-300 is too thin for an object of diameter"):
+        quasi_static_grasp(square(4.0), PlanarChain([1.0] * 8), thickness=1e-300)

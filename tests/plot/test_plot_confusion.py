@@ -29,3 +29,14 @@ def test_many_classes_leave_out_names_and_counts():
     art = plot_confusion_matrix(y, y, max_labels=50)
     assert art["counts"] == [] and len(art["image"].axes.get_xticks()) == 0
     plt.close("all")
+
+
+def test_max_labels_must_be_a_count():
+    from tentaclass.errors import InputError
+
+    with pytest.raises(InputError, match=r"^max_labels must be an integer, got 'a'"):
+        plot_confusion_matrix([1, 2], [1, 2], max_labels="a")  # was a TypeError
+    with pytest.raises(InputError, match=r"^max_labels must be at least 0, got -1"):
+        plot_confusion_matrix([1, 2], [1, 2], max_labels=-1)
+    assert plot_confusion_matrix([1, 2], [1, 2], max_labels=0)["counts"] == []
+    plt.close("all")

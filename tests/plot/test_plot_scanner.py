@@ -75,3 +75,24 @@ def test_plot_belt_draws_grey_levels_as_they_are():
 def test_bad_images():
     with pytest.raises(ValueError, match="2-D"):
         plot_belt(np.zeros((2, 2, 2)), [])
+
+
+@pytest.mark.parametrize(
+    ("dpi", "match"),
+    [
+        (0, r"^dpi must be at least 1, got 0"),  # was a ZeroDivisionError
+        (10**6, r"^dpi 1,000,000 would make a figure 4,000,000 pixels across, more than"),
+        (72.5, r"^dpi must be an integer"),
+    ],
+)
+def test_save_belt_figure_refuses_a_dpi_it_cannot_draw(tmp_path, dpi, match):
+    from tentaclass.errors import InputError
+
+    belt = make_belt(2, width=64, random_state=0)
+    with pytest.raises(InputError, match=match):  # 1e6 was a MemoryError (std::bad_alloc)
+        save_belt_figure(belt.image, [], tmp_path / "belt.png", dpi=dpi)
+    with pytest.raises(
+        InputError, match=r"^image must have at least 2 dimensions, got shape \(64,\)"
+    ):
+        save_belt_figure(belt.image[0], [], tmp_path / "belt.png")
+    assert not (tmp_path / "belt.png").exists()

@@ -65,3 +65,20 @@ def test_capture_error_marks_stay_inside_the_axes():
     (label,) = ax.texts
     assert label.xy[1] < 1 and label.get_va() == "top"  # below the title, not on it
     plt.close("all")
+
+
+def test_bad_arguments_are_named_before_a_figure_is_made():
+    from tentaclass.errors import InputError
+
+    before = plt.get_fignums()
+    with pytest.raises(InputError, match=r"^w must be a Wrap .*, got str"):
+        plot_wrap("w", shapes.square(1.0))  # was an AttributeError
+    with pytest.raises(InputError, match=r"^arrays must be a mapping of label -> joint angles"):
+        plot_grasp_spectra([np.ones(8)])
+    with pytest.raises(
+        InputError, match=r"^curves\['a'\]: link_lengths and errors .*\(3,\) and \(2,\)"
+    ):
+        plot_capture_error({"a": ([1.0, 2.0, 3.0], [0.1, 0.2])})  # was matplotlib's "x and y"
+    with pytest.raises(InputError, match=r"^curves\['a'\] must be a pair"):
+        plot_capture_error({"a": [1.0, 2.0, 3.0]})
+    assert plt.get_fignums() == before

@@ -243,3 +243,27 @@ def test_signed_area_at_any_scale(scale):
 def test_signed_area_refuses_what_is_not_an_outline(outline, match):
     with pytest.raises(InputError, match=match):
         shapes.signed_area(outline)
+
+
+@pytest.mark.parametrize(
+    ("make", "match"),
+    [
+        (
+            lambda: shapes.square(1e308),
+            r"^width 1e\+308 is too large to compute with \(at most 1e\+100\)",
+        ),
+        (
+            lambda: shapes.rectangle(1.0, 1e-300),
+            r"^height 1e-300 is too small .* \(at least 1e-100\)",
+        ),
+        (lambda: shapes.circle(1e200), r"^radius 1e\+200 is too large"),
+        (lambda: shapes.regular_polygon(5, 1e-101), r"^radius 1e-101 is too small"),
+        (lambda: shapes.triangle(side=1e101), r"^side 1e\+101 is too large"),
+    ],
+)
+def test_primitive_sizes_outside_the_outline_spans_are_refused(make, match):
+    # as_outline refuses such spans: the primitives refuse them too, by the size's name
+    with pytest.raises(InputError, match=match):
+        make()
+    assert shapes.as_outline(shapes.square(1e100)).shape == (4, 2)
+    assert shapes.as_outline(shapes.circle(1e-100)).shape == (256, 2)

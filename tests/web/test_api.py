@@ -319,3 +319,43 @@ def test_csv_takes_expressions_of_pi_and_comments(client):
     (chain,) = client.post("/api/angles", json={"csv": text}).json()["chains"]
     assert chain["angles"] == pytest.approx([0, 0, 0, np.pi / 2] * 4)
     assert chain["label"] == "square" and chain["grasp"]["state"] == "once"
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        (
+            b"{not json",
+            "the request body is not valid JSON at character 1: Expecting property name",
+        ),
+        (
+            b'{"outline": [[0, 0], [1, 0],]}',
+            "the request body is not valid JSON at character 28: Expecting value",
+        ),
+        (b"", "the request body is empty: send a JSON object"),
+    ],
+)
+def test_malformed_json_is_named(client, body, message):
+    r = client.post("/api/classify", content=body, headers={"content-type": "application/json"})
+    assert r.status_code == 422 and r.json()["detail"].startswith(message), r.text
+
+
+def test_link_length_beyond_float64_is_a_bad_request(client):
+    # the joint positions of 1e308 links overflowed: a 400 naming 'points' and NaN
+    r = client.post("/api/angles", json={"angles": [1.0, 1.0, 1.0], "link_length": 1e308})
+    assert r.status_code == 400
+    assert r.json()["detail"].startswith("link_lengths up to 1e+308 over 3 links")
+    # a tiny length draws the same chain, scaled
+    r = client.post("/api/angles", json={"angles": [1.0, 1.0, 1.0], "link_length": 1e-300})
+    assert r.status_code == 200 and r.json()["chains"][0]["joints"][1][0] > 0
+
+
+def test_concurrent_requests_all_answer(client):
+    from concurrent.futures import ThreadPoolExecutor
+
+    good = {"outline": square(100.0).tolist()}
+    bad = {"outline": [[0, 0], [1, 1], [1, 0], [0, 1]]}
+    with ThreadPoolExecutor(8) as pool:
+        codes = list(pool.map(lambda b: client.post("/api/classify", json=b).status_code,
+                              [good, bad] * 8))  # fmt: skip
+    assert codes == [200, 400] * 8

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from .._typing import FloatArray
-from .._validation import check_fraction, check_spread
+from .._validation import check_fraction, check_spread, check_unknown_label
 from ._base import BaseProbabilisticClassifier
 from ._pnn_core import MAX_BLOCK_BYTES, NEWPNN_BIAS, PNNCore
 
@@ -223,6 +223,8 @@ class PNNClassifier(PNNCore, BaseProbabilisticClassifier):
 
     def _fit(self, X: FloatArray, classes: np.ndarray, y_idx: np.ndarray) -> None:
         """Store the training patterns (and choose the spread if ``"auto"``)."""
+        if self.reject_below is not None:
+            check_unknown_label(self.unknown_label, classes)
         order = np.argsort(y_idx, kind="stable")
         self.classes_ = classes
         self.patterns_ = X[order]

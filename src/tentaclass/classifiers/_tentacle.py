@@ -19,7 +19,13 @@ from threadpoolctl import threadpool_limits
 
 from .._dask import DaskMixin
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_fitted_X, check_positive_int, check_X_y, class_indices
+from .._validation import (
+    check_fitted_X,
+    check_positive_int,
+    check_unknown_label,
+    check_X_y,
+    class_indices,
+)
 from ..errors import InputError
 from ..features import LapSplit, last_lap, split_laps
 from . import _elastic
@@ -250,6 +256,8 @@ class TentacleClassifier(TentacleCore, DaskMixin, ClassifierMixin, BaseEstimator
         rate = self._check_params()
         Xv, yv = check_X_y(self, X, y, dtype=np.float64)
         self.classes_, y_idx = class_indices(yv)
+        if rate is not None:
+            check_unknown_label(self.unknown_label, self.classes_)
         groups = np.arange(len(yv)) if groups is None else np.asarray(groups)
         if groups.shape != (len(yv),):
             raise InputError(f"groups must have one entry per wrap ({len(yv)}), got {groups.shape}")

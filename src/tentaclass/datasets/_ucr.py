@@ -59,22 +59,43 @@ def _split_bunch(parts: list, descr: str) -> Bunch:
     )
 
 
+def _text(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a UTF-8 text file (UCR .tsv or UEA .ts)") from None
+
+
+def _series(path: Path, k: int, label: str, values: list[str]) -> list[float]:
+    """One series of the file's line ``k``: a class label and at least one number."""
+    if not label.strip():
+        raise InputError(f"{path}: line {k} has no class label")
+    if not values or values == [""]:
+        raise InputError(f"{path}: line {k} holds a label and no values")
+    try:
+        return [float(v) for v in values]
+    except ValueError as exc:
+        raise InputError(f"{path}: line {k}: a value is not a number ({exc})") from None
+
+
 def _read_tsv(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    rows = [line.rstrip("\n").split("\t") for line in path.read_text().splitlines() if line.strip()]
+    rows = [(k, line.split("\t")) for k, line in enumerate(_text(path).splitlines(), start=1)
+            if line.strip()]  # fmt: skip
     if not rows:
         raise InputError(f"{path}: no series in the file")
-    _same_lengths(path, [len(r) - 1 for r in rows])
-    labels = np.array([r[0].strip() for r in rows])
-    try:
-        data = np.array([[float(v) for v in r[1:]] for r in rows])
-    except ValueError as exc:
-        raise InputError(f"{path}: a value is not a number ({exc})") from None
-    return data, labels
+    if all(len(r) == 1 for _, r in rows):
+        raise InputError(
+            f"{path}: no tab on any line: UCR .tsv files hold the label, then the values, "
+            "separated by tabs"
+        )
+    data = [_series(path, k, r[0], r[1:]) for k, r in rows]
+    _same_lengths(path, [len(r) for r in data])
+    return np.array(data), np.array([r[0].strip() for _, r in rows])
 
 
 def _read_ts(path: Path) -> tuple[np.ndarray, np.ndarray]:
     data, labels, in_data = [], [], False
-    for line in path.read_text().splitlines():
+    for k, line in enumerate(_text(path).splitlines(), start=1):
         line = line.strip()
         if not line or line.startswith("#"):
             continue
@@ -86,13 +107,12 @@ def _read_ts(path: Path) -> tuple[np.ndarray, np.ndarray]:
                 raise InputError(f"{path}: multivariate .ts files are not supported")
             continue
         if in_data:
+            if ":" not in line:
+                raise InputError(f"{path}: line {k} has no ':' before a class label")
             *dims, label = line.split(":")
             if len(dims) != 1:
                 raise InputError(f"{path}: multivariate .ts files are not supported")
-            try:
-                data.append([float(v) for v in dims[0].split(",")])
-            except ValueError as exc:
-                raise InputError(f"{path}: a value is not a number ({exc})") from None
+            data.append(_series(path, k, label, dims[0].split(",")))
             labels.append(label.strip())
     if not data:
         raise InputError(f"{path}: no @data section with series")

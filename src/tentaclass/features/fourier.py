@@ -43,6 +43,7 @@ from .._validation import (
     check_flag,
     check_positive_float,
     check_positive_int,
+    check_total,
 )
 from ..errors import InputError
 
@@ -94,6 +95,12 @@ def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
     w_minus_sin : ndarray of shape (n, n)
         ``w_minus_sin[k, j] = -sin(2 pi k j / n)``.
 
+    Raises
+    ------
+    InputError
+        ``n`` not a positive integer, or the two matrices larger than
+        ``MAX_VALUES`` (1e9) values (``n`` above 22,360).
+
     Notes
     -----
     For a real signal ``x`` of shape ``(..., n)``,
@@ -111,6 +118,7 @@ def dft_layer(n: int) -> tuple[FloatArray, FloatArray]:
     True
     """
     n = check_positive_int(n, "n")
+    check_total(2 * n * n, f"the DFT layer of n = {n:,} (2 matrices of n x n)")
     phase = 2 * np.pi * (np.outer(np.arange(n), np.arange(n)) % n) / n
     return np.cos(phase), -np.sin(phase)
 

@@ -18,7 +18,7 @@ from .._dask import blockwise
 from .._typing import ArrayLike, BoolArray, FloatArray
 from .._validation import MAX_LINKS, as_angle_array, check_positive_int
 from ..errors import InputError
-from ..geometry import angles_to_points, points_to_angles, resample_closed
+from ..geometry import _link_lengths, angles_to_points, points_to_angles, resample_closed
 
 __all__ = ["last_lap"]
 
@@ -104,7 +104,11 @@ def last_lap(
     # Clockwise wraps are mirrored (negated) but not reversed: reversing would
     # move the approach links to the end of the chain.
     flat = np.where(flat.sum(axis=1, keepdims=True) < 0, -flat, flat)
-    points = angles_to_points(flat, link_lengths)
+    # only the ratios of the lengths matter: each row's longest link is 1
+    lengths = _link_lengths(link_lengths, n)
+    if lengths.ndim:
+        lengths = lengths / lengths.max(axis=-1, keepdims=True)
+    points = angles_to_points(flat, 1.0 if lengths.ndim == 0 else lengths)
     t = np.cumsum(flat, axis=1)
     out = np.empty((flat.shape[0], n_out))
     closed = np.zeros(flat.shape[0], bool)

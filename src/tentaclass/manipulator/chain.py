@@ -33,6 +33,20 @@ __all__ = ["PlanarChain"]
 
 TorqueFunction = Callable[[float, FloatArray, FloatArray], ArrayLike]
 
+#: Bounds of a chain's mass-matrix scale, ``sum(masses) * sum(link_lengths)**2 +
+#: sum(inertia)``, in its dynamics (kinematics take any lengths): beyond them the
+#: dynamics under- or overflow float64. A chain in consistent units (kg and m, g
+#: and mm) lies many orders of magnitude inside.
+MIN_SCALE, MAX_SCALE = 1e-200, 1e200
+
+
+def _finite(out: FloatArray, what: str) -> FloatArray:
+    """``out``, unless its computation overflowed float64 (refused, naming ``what``)."""
+    if not np.all(np.isfinite(out)):
+        raise InputError(f"{what} overflow float64: the joint velocities, accelerations or "
+                         "torques are too large for this chain")  # fmt: skip
+    return out
+
 
 class PlanarChain:
     """A planar serial chain of ``n`` rigid links joined by revolute joints.
@@ -100,7 +114,8 @@ class PlanarChain:
         if np.any((p["com"] < 0) | (p["com"] > 1)):
             raise InputError(f"com must lie in [0, 1] (a fraction of each link), got {p['com']}")
         if "inertia" not in p:
-            rod = p["masses"] * p["link_lengths"] ** 2 / 12.0
+            with np.errstate(over="ignore", under="ignore"):  # (the scale is checked below)
+                rod = p["masses"] * p["link_lengths"] ** 2 / 12.0
             rod.flags.writeable = False
             p["inertia"] = rod
         elif np.any(p["inertia"] < 0):
@@ -164,6 +179,23 @@ class PlanarChain:
         return as_joint_arrays(self.n_links, **arrays)
 
     def _params(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """The parameters of the dynamics, refused where float64 cannot hold them."""
+        with np.errstate(over="ignore", under="ignore"):
+            scale = self.masses.sum() * self.link_lengths.sum() ** 2 + self.inertia.sum()
+            weight = self.gravity * self.masses.sum() * self.link_lengths.sum()
+        if not MIN_SCALE <= scale <= MAX_SCALE:
+            raise InputError(
+                f"the chain's masses, lengths and inertias give a mass matrix of scale "
+                f"{scale:.3g} (sum(masses) * sum(link_lengths)**2 + sum(inertia)), outside "
+                f"[{MIN_SCALE:g}, {MAX_SCALE:g}] where its dynamics fit float64: express "
+                "them in other units"
+            )
+        if not weight <= MAX_SCALE:
+            raise InputError(
+                f"gravity {self.gravity:g} gives gravity torques of scale {weight:.3g} "
+                f"(gravity * sum(masses) * sum(link_lengths)), beyond {MAX_SCALE:g} where "
+                "they fit float64: express it in other units"
+            )
         return self.link_lengths, self._com_lengths, self.masses, self.inertia
 
     # -- kinematics ---------------------------------------------------------------
@@ -344,7 +376,9 @@ class PlanarChain:
         array([-0. ,  0.5])
         """
         q, qd = self._joints(q=q, qd=qd)
-        return _dyn.rnea(q, qd, None, *self._params(), 0.0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = _dyn.rnea(q, qd, None, *self._params(), 0.0)
+        return _finite(out, "the Coriolis torques")
 
     def gravity_torques(self, q: ArrayLike) -> FloatArray:
         """Joint torques that hold the chain still against gravity, ``g(q)``.
@@ -394,7 +428,9 @@ class PlanarChain:
         array([15. ,  0.5])
         """
         q, qd = self._joints(q=q, qd=qd)
-        return _dyn.rnea(q, qd, None, *self._params(), self.gravity)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = _dyn.rnea(q, qd, None, *self._params(), self.gravity)
+        return _finite(out, "the bias torques")
 
     def inverse_dynamics(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> FloatArray:
         """Joint torques for given motion: ``tau = H(q) qdd + h(q, qd) + g(q)``.
@@ -423,7 +459,9 @@ class PlanarChain:
         array([2.6667, 0.8333])
         """
         q, qd, qdd = self._joints(q=q, qd=qd, qdd=qdd)
-        return _dyn.rnea(q, qd, qdd, *self._params(), self.gravity)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = _dyn.rnea(q, qd, qdd, *self._params(), self.gravity)
+        return _finite(out, "the joint torques")
 
     def forward_dynamics(self, q: ArrayLike, qd: ArrayLike, tau: ArrayLike) -> FloatArray:
         """Joint accelerations under given torques: ``qdd = H^-1 (tau - h - g)``.
@@ -450,13 +488,21 @@ class PlanarChain:
         array([-15.])
         """
         q, qd, tau = self._joints(q=q, qd=qd, tau=tau)
-        return self._accel(q, qd, tau)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = self._accel(q, qd, tau)
+        return _finite(out, "the joint accelerations")
 
     def _accel(self, q: FloatArray, qd: FloatArray, tau: FloatArray | None) -> FloatArray:
         rhs = -_dyn.rnea(q, qd, None, *self._params(), self.gravity)
         if tau is not None:
             rhs += tau
-        qdd = np.linalg.solve(_dyn.crba(q, *self._params()), rhs[..., None])[..., 0]
+        try:
+            qdd = np.linalg.solve(_dyn.crba(q, *self._params()), rhs[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            raise InputError(
+                "the mass matrix is singular in this configuration: with point-mass links "
+                "(inertia 0) some motion of the joints moves no mass"
+            ) from None
         return np.asarray(qdd, dtype=np.float64)
 
     def energy(self, q: ArrayLike, qd: ArrayLike) -> FloatArray:
@@ -483,7 +529,9 @@ class PlanarChain:
         array(20.)
         """
         q, qd = self._joints(q=q, qd=qd)
-        return _dyn.energy(q, qd, *self._params(), self.gravity)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = _dyn.energy(q, qd, *self._params(), self.gravity)
+        return _finite(out, "the energies")
 
     def simulate(
         self,

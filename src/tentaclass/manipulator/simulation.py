@@ -8,6 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._typing import FloatArray
+from ..errors import InputError
 
 __all__ = ["Trajectory"]
 
@@ -68,6 +69,12 @@ def integrate(
     q_out[0], qd_out[0] = q0, qd0
     q, qd = q0, qd0
     for k in range(t.shape[0] - 1):
-        q, qd = step(accel, float(t[k]), float(t[k + 1] - t[k]), q, qd)
+        with np.errstate(over="ignore", invalid="ignore"):
+            q, qd = step(accel, float(t[k]), float(t[k + 1] - t[k]), q, qd)
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(qd))):
+            raise InputError(
+                f"the simulation diverged between t = {t[k]:g} and {t[k + 1]:g}: the state "
+                "overflowed float64 (time steps too long for this chain, or torques too large)"
+            )
         q_out[k + 1], qd_out[k + 1] = q, qd
     return Trajectory(q=q_out, qd=qd_out)

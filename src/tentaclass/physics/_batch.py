@@ -96,7 +96,17 @@ def grasp_many(
     dirs = [direction] * b if isinstance(direction, str) else list(direction)
     if len(dirs) != b:
         raise InputError(f"direction has {len(dirs)} entries for {b} grasps")
-    chains = [chain] * b if isinstance(chain, PlanarChain) else list(chain)
+    if isinstance(chain, PlanarChain):
+        chains = [chain] * b
+    elif isinstance(chain, Sequence) and not isinstance(chain, str):
+        chains = list(chain)
+        bad = next((c for c in chains if not isinstance(c, PlanarChain)), None)
+        if bad is not None:
+            raise InputError(f"chain must hold PlanarChain objects, got {type(bad).__name__}")
+    else:
+        raise InputError(
+            f"chain must be a PlanarChain or a sequence of them, got {type(chain).__name__}"
+        )
     if len(chains) != b:
         raise InputError(f"chain has {len(chains)} entries for {b} grasps")
     jobs = [(rows[i], chains[i], float(st[i]), float(off[i]), dirs[i]) for i in range(b)]

@@ -272,7 +272,8 @@ class _Sim:
     def run(self, time_limit: float) -> tuple[str, int]:
         c, dt = self.ctrl, self.m.opt.timestep
         period = c.control_steps * dt
-        need = max(1, int(np.ceil(c.rest_time / period)))
+        # looks in rest_time; a chain can be seen at rest only within settle_time
+        need = max(1, int(np.ceil(min(c.rest_time, c.settle_time + period) / period)))
         steps, reason = 0, ""
         for k in range(self.first, self.n):
             if k > self.first:  # deploy link k, turned away from the object until it is free

@@ -9,7 +9,14 @@ import numpy as np
 import shapely
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_links_fit, check_positive_float, check_thickness_fits
+from .._validation import (
+    check_finite_float,
+    check_links_fit,
+    check_positive_float,
+    check_positive_int,
+    check_thickness_builds,
+    check_thickness_fits,
+)
 from ..errors import InputError
 from ..manipulator import PlanarChain
 from ..shapes import as_outline
@@ -19,7 +26,12 @@ from ._controller import CurlController, _Sim
 from ._decompose import convex_pieces
 from ._model import check_chain_depth
 
-__all__ = ["PhysicalGrasp", "grasp"]
+__all__ = ["MAX_STEPS", "PhysicalGrasp", "grasp"]
+
+#: Most simulation steps one grasp may take: at about 25 us a step, over
+#: forty minutes. The default step (4 ms) takes about 300,000 steps for the
+#: longest chain MuJoCo builds.
+MAX_STEPS = 100_000_000
 
 
 @dataclass(frozen=True)
@@ -194,7 +206,9 @@ def grasp(
         or a thickness larger than the object's diameter (as
         :func:`tentaclass.wrap` refuses them), more
         links than MuJoCo builds (:data:`tentaclass.physics.MAX_LINKS`), start
-        outside [0, 1), negative offset, an approach that passes through the object.
+        outside [0, 1), negative offset, an approach that passes through the object,
+        a thickness below ``1e-12`` of the object's diameter, or a simulation of
+        more than ``MAX_STEPS`` (100,000,000) steps.
 
     Notes
     -----
@@ -226,6 +240,7 @@ def grasp(
         raise InputError(f"controller must be a CurlController, got {type(ctrl).__name__}")
     friction = check_positive_float(friction, "friction", allow_zero=True)
     timestep = check_positive_float(timestep, "timestep")
+    frames = check_positive_int(frames, "frames", minimum=0)
     if isinstance(chain, PlanarChain):
         check_chain_depth(chain.n_links)  # before the setup, whose work grows with the links
     su = _prepare(outline, chain, start, offset, direction, thickness, simplify)
@@ -236,10 +251,21 @@ def grasp(
     q0[su.first] = su.q_first
     sim = _Sim(su.norm_chain, su.outline, pieces, su.base, su.heading, q0, su.first, su.r, friction,
                ctrl, frames, timestep, su.poly)  # fmt: skip
+    # every joint stops within 2 * max_turn / omega of its start, the squeeze within settle_time
+    needed = float(2 * np.sum(ctrl.max_turn / sim.omega[su.first :]) + ctrl.settle_time + 1)
     if time_limit is None:
-        time_limit = float(2 * np.sum(ctrl.max_turn / sim.omega[su.first :]) + ctrl.settle_time + 1)
+        time_limit = needed
     else:
         time_limit = check_positive_float(time_limit, "time_limit")
+    steps_needed = max(min(time_limit, needed) / timestep, ctrl.control_steps)
+    if steps_needed > MAX_STEPS:
+        raise InputError(
+            f"the grasp would take up to {steps_needed:.3g} simulation steps "
+            f"({min(time_limit, needed):.4g} s in steps of {timestep:g} s, "
+            f"{ctrl.control_steps:,} steps per look of the controller), more than the "
+            f"{MAX_STEPS:,} allowed: use a larger timestep, a faster controller or a "
+            "shorter time_limit"
+        )
     if frames:
         sim.frames.append(sim.joints())
     reason, steps = sim.run(time_limit)
@@ -284,7 +310,7 @@ def _prepare(
     if not isinstance(chain, PlanarChain):
         raise InputError(f"chain must be a PlanarChain, got {type(chain).__name__}")
     p = as_outline(outline)
-    start = float(start)
+    start = check_finite_float(start, "start")
     if not 0 <= start < 1:
         raise InputError(f"start must be in [0, 1), got {start!r}")
     offset = check_positive_float(offset, "offset", allow_zero=True)
@@ -297,6 +323,7 @@ def _prepare(
     s = 1.0 / float(ln.mean())  # the simulation runs in units of the mean link length
     thickness = 0.1 / s if thickness is None else check_positive_float(thickness, "thickness")
     check_thickness_fits(thickness, diameter)
+    check_thickness_builds(thickness, diameter)
     r = 0.5 * thickness * s
     mirror = direction == "cw"
 

@@ -155,6 +155,8 @@ def chain_mjcf(
     >>> xml.count('type="hinge"')
     2
     """
+    if not isinstance(chain, PlanarChain):
+        raise InputError(f"chain must be a PlanarChain, got {type(chain).__name__}")
     check_chain_depth(chain.n_links)
     n = chain.n_links
     thickness = check_positive_float(thickness, "thickness", allow_zero=True)

@@ -6,6 +6,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import InputError
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -26,3 +28,11 @@ def without_rounding_noise(values: np.ndarray, scale: float) -> np.ndarray:
     noise; drawn as they are, an autoscaled axis shows the noise as data.
     """
     return np.where(np.abs(values) < 1e-9 * scale, 0.0, values)
+
+
+def check_wrap(w: object, name: str = "w") -> None:
+    """Refuse a ``w`` that is not a :class:`~tentaclass.Wrap` (or a grasp, which is one)."""
+    from ..wrapping import Wrap
+
+    if not isinstance(w, Wrap):
+        raise InputError(f"{name} must be a Wrap (from wrap or grasp), got {type(w).__name__}")

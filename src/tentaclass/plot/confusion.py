@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._typing import ArrayLike
+from .._validation import check_positive_int
 from ._axes import axes_or_new
 
 if TYPE_CHECKING:
@@ -48,6 +49,7 @@ def plot_confusion_matrix(
     from matplotlib.ticker import MaxNLocator
     from sklearn.metrics import confusion_matrix
 
+    max_labels = check_positive_int(max_labels, "max_labels", minimum=0)
     t = np.asarray(y_true).astype(str)
     p = np.asarray(y_pred).astype(str)
     labels = np.unique(np.concatenate([t, p]))

@@ -11,9 +11,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._typing import ArrayLike
+from .._validation import check_positive_int
 from ..shapes import as_outline
 from ..wrapping import Wrap
-from ._axes import axes_or_new
+from ._axes import axes_or_new, check_wrap
 from .wrapping import plot_wrap
 
 if TYPE_CHECKING:
@@ -64,6 +65,7 @@ def plot_grasp(
     >>> art["links"].get_xydata().shape
     (10, 2)
     """
+    check_wrap(g, "g")
     ax = axes_or_new(ax)
     p = as_outline(outline)
     j = np.asarray(g.joints)
@@ -130,9 +132,11 @@ def animate_grasp(
 
     from ..errors import InputError
 
+    check_wrap(g, "g")
     frames = np.asarray(getattr(g, "frames", np.zeros((0,))))
     if frames.ndim != 3 or len(frames) == 0:
         raise InputError("the grasp has no frames: run grasp(..., frames=k) with k > 0")
+    interval = check_positive_int(interval, "interval")
     ax = axes_or_new(ax)
     art = plot_grasp(g, outline, ax=ax, **kwargs)
     j_all = frames.reshape(-1, 2)

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_belt_image, as_binary_grid
+from .._validation import as_belt_image, as_binary_grid, check_positive_int
 from ..errors import InputError
 from ..scanner import (
     Inspection,
@@ -209,6 +209,10 @@ def plot_belt(
     return {"image": art, "boxes": boxes, "labels": labels, "marks": marks}
 
 
+#: Matplotlib's image renderer (Agg) draws fewer than 2**16 pixels along each side.
+_MAX_FIGURE_PIXELS = 2**16
+
+
 def save_belt_figure(
     image: Any, objects: Sequence[ScannedObject], path: str | Path, *, dpi: int = 100
 ) -> None:
@@ -217,8 +221,16 @@ def save_belt_figure(
 
     img = as_belt_image(image, "image")
     h, w = img.shape
+    dpi = check_positive_int(dpi, "dpi")
     scale = min(1.0, 2400.0 / max(h, w)) * 3 / dpi
-    fig = Figure(figsize=(max(4.0, w * scale + 1.5), max(3.0, h * scale + 1.0)))
+    size = (max(4.0, w * scale + 1.5), max(3.0, h * scale + 1.0))
+    pixels = max(size) * dpi
+    if pixels >= _MAX_FIGURE_PIXELS:
+        raise InputError(
+            f"dpi {dpi:,} would make a figure {pixels:,.0f} pixels across, more than the "
+            f"{_MAX_FIGURE_PIXELS:,} matplotlib draws: use a smaller dpi"
+        )
+    fig = Figure(figsize=size)
     ax = fig.add_subplot()
     plot_belt(img, objects, ax=ax)
     fig.tight_layout()

@@ -12,10 +12,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._typing import ArrayLike
+from .._validation import as_float_array
+from ..errors import InputError
 from ..features import fourier_features
 from ..shapes import as_outline
 from ..wrapping import Wrap
-from ._axes import axes_or_new
+from ._axes import axes_or_new, check_wrap
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -53,8 +55,9 @@ def plot_wrap(w: Wrap, outline: ArrayLike, ax: Axes | None = None, **kwargs: Any
     """
     from matplotlib.patches import Polygon
 
-    ax = axes_or_new(ax)
+    check_wrap(w)
     p = as_outline(outline)
+    ax = axes_or_new(ax)
     obj = ax.add_patch(
         Polygon(p, closed=True, facecolor="0.85", edgecolor="0.4", lw=0.8, label="object")
     )
@@ -105,8 +108,12 @@ def plot_grasp_spectra(
     -------
     bars : list of BarContainer, one per array.
     """
-    ax = axes_or_new(ax)
+    if not isinstance(arrays, Mapping):
+        raise InputError(
+            f"arrays must be a mapping of label -> joint angles, got {type(arrays).__name__}"
+        )
     spectra = {k: grasp_spectrum(v) for k, v in arrays.items()}
+    ax = axes_or_new(ax)
     width = 0.8 / max(len(spectra), 1)
     out = []
     for i, (label, s) in enumerate(spectra.items()):
@@ -139,9 +146,26 @@ def plot_capture_error(
     -------
     artists : dict of label -> Line2D (guides under ``"mark: <label>"``).
     """
+    if not isinstance(curves, Mapping):
+        raise InputError(
+            f"curves must be a mapping of label -> (link_lengths, errors), got "
+            f"{type(curves).__name__}"
+        )
+    lines = {}
+    for label, curve in curves.items():
+        if not (isinstance(curve, Sequence) and len(curve) == 2):
+            raise InputError(f"curves[{label!r}] must be a pair (link_lengths, errors)")
+        x = as_float_array(curve[0], f"curves[{label!r}] link_lengths", allow_nonfinite=True)
+        y = as_float_array(curve[1], f"curves[{label!r}] errors", allow_nonfinite=True)
+        if x.ndim != 1 or x.shape != y.shape:
+            raise InputError(
+                f"curves[{label!r}]: link_lengths and errors must be 1-D arrays of one length, "
+                f"got shapes {x.shape} and {y.shape}"
+            )
+        lines[label] = (x, y)
     ax = axes_or_new(ax)
     out: dict[str, Any] = {}
-    for label, (x, y) in curves.items():
+    for label, (x, y) in lines.items():
         (out[label],) = ax.plot(x, y, marker=".", label=label, **kwargs)
     for label, xs in (marks or {}).items():
         for j, x_mark in enumerate(xs):

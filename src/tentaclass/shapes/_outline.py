@@ -71,6 +71,23 @@ def signed_area(outline: ArrayLike) -> float:
 _MIN_SPAN, _MAX_SPAN = 1e-100, 1e100
 
 
+def _size(value: object, name: str) -> float:
+    """A size of a primitive shape: a number > 0 within the spans :func:`as_outline` takes.
+
+    >>> _size(1e300, "radius")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: radius 1e+300 is too large to compute with (at most 1e+100): \
+rescale it
+    """
+    v = check_positive_float(value, name)
+    if not _MIN_SPAN <= v <= _MAX_SPAN:
+        bound = f"at most {_MAX_SPAN:g}" if v > _MAX_SPAN else f"at least {_MIN_SPAN:g}"
+        size = "large" if v > _MAX_SPAN else "small"
+        raise InputError(f"{name} {v:g} is too {size} to compute with ({bound}): rescale it")
+    return v
+
+
 def as_outline(points: ArrayLike, name: str = "outline") -> FloatArray:
     """Validate a closed outline and return it counter-clockwise, as a new array.
 
@@ -151,8 +168,8 @@ def rectangle(width: float, height: float) -> FloatArray:
            [ 3.,  1.],
            [-3.,  1.]])
     """
-    w = check_positive_float(width, "width") / 2
-    h = check_positive_float(height, "height") / 2
+    w = _size(width, "width") / 2
+    h = _size(height, "height") / 2
     return np.array([(-w, -h), (w, -h), (w, h), (-w, h)])
 
 
@@ -178,7 +195,7 @@ def triangle(vertices: ArrayLike | None = None, *, side: float = 1.0) -> FloatAr
     1.732051
     """
     if vertices is None:
-        s = check_positive_float(side, "side")
+        s = _size(side, "side")
         return np.array([(-s / 2, 0.0), (s / 2, 0.0), (0.0, s * np.sqrt(3) / 2)])
     p = as_outline(vertices, "vertices")
     if len(p) != 3:
@@ -199,7 +216,7 @@ def regular_polygon(n_sides: int, radius: float) -> FloatArray:
            [-1., -1.]])
     """
     n = check_positive_int(n_sides, "n_sides", minimum=3, maximum=MAX_POINTS)
-    r = check_positive_float(radius, "radius")
+    r = _size(radius, "radius")
     a = -np.pi / 2 + np.pi / n + 2 * np.pi * np.arange(n) / n
     return r * np.stack([np.cos(a), np.sin(a)], axis=1)
 
@@ -215,7 +232,7 @@ def circle(radius: float, n_points: int = 256) -> FloatArray:
            [-1.,  0.],
            [ 0., -1.]])
     """
-    r = check_positive_float(radius, "radius")
+    r = _size(radius, "radius")
     n = check_positive_int(n_points, "n_points", minimum=3, maximum=MAX_POINTS)
     a = 2 * np.pi * np.arange(n) / n
     return r * np.stack([np.cos(a), np.sin(a)], axis=1)

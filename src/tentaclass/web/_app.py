@@ -302,7 +302,16 @@ def create_app(data_dir: str | Path | None = None, recognizer: Recognizer | None
     async def _invalid(request: Request, exc: RequestValidationError) -> JSONResponse:
         parts = []
         for e in exc.errors()[:3]:
-            where = ".".join(str(x) for x in e.get("loc", ()) if x not in ("body",))
+            loc = tuple(e.get("loc", ()))
+            if e.get("type") == "json_invalid":  # loc is ("body", character)
+                why = (e.get("ctx") or {}).get("error", "")
+                at = f" at character {loc[1]}" if len(loc) > 1 else ""
+                parts.append(f"the request body is not valid JSON{at}: {why}".rstrip(": "))
+                continue
+            if e.get("type") == "missing" and loc == ("body",):
+                parts.append("the request body is empty: send a JSON object")
+                continue
+            where = ".".join(str(x) for x in loc if x not in ("body",))
             msg = str(e.get("msg", "invalid")).removeprefix("Value error, ")
             parts.append(f"{where}: {msg}" if where else msg)
         errors = [
