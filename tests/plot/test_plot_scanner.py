@@ -92,7 +92,7 @@ def test_save_belt_figure_refuses_a_dpi_it_cannot_draw(tmp_path, dpi, match):
     with pytest.raises(InputError, match=match):  # 1e6 was a MemoryError (std::bad_alloc)
         save_belt_figure(belt.image, [], tmp_path / "belt.png", dpi=dpi)
     with pytest.raises(
-        InputError, match=r"^image must have at least 2 dimensions, got shape \(64,\)"
+        InputError, match=r"^image must be a non-empty 2-D array \(rows, width\), got \(64,\)"
     ):
         save_belt_figure(belt.image[0], [], tmp_path / "belt.png")
     assert not (tmp_path / "belt.png").exists()
