@@ -79,8 +79,8 @@ def _series(path: Path, k: int, label: str, values: list[str]) -> list[float]:
 
 
 def _read_tsv(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    rows = [(k, line.split("\t")) for k, line in enumerate(_text(path).splitlines(), start=1)
-            if line.strip()]  # fmt: skip
+    lines = enumerate(_text(path).splitlines(), start=1)
+    rows = [(k, line.split("\t")) for k, line in lines if line.strip()]
     if not rows:
         raise InputError(f"{path}: no series in the file")
     if all(len(r) == 1 for _, r in rows):

@@ -43,8 +43,10 @@ MIN_SCALE, MAX_SCALE = 1e-200, 1e200
 def _finite(out: FloatArray, what: str) -> FloatArray:
     """``out``, unless its computation overflowed float64 (refused, naming ``what``)."""
     if not np.all(np.isfinite(out)):
-        raise InputError(f"{what} overflow float64: the joint velocities, accelerations or "
-                         "torques are too large for this chain")  # fmt: skip
+        raise InputError(
+            f"{what} overflow float64: the joint velocities, accelerations or torques are "
+            "too large for this chain"
+        )
     return out
 
 
