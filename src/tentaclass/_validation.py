@@ -695,6 +695,45 @@ cannot reach the object (use offset <= n_links * link_length)
         )
 
 
+#: Bounds of a link's mass, and of its inertia about its centre of mass, in a
+#: physical grasp's units (kilograms, and metres scaled to a mean link length of 1).
+#: The controller's joint servos and damping act in those units: a chain of
+#: 1e16 kg links does not come to rest, at 1e21 kg it does not move at all (and
+#: would read as a grasp at rest), and MuJoCo refuses bodies below 1e-14 kg.
+MIN_GRASP_MASS, MAX_GRASP_MASS = 1e-12, 1e12
+
+
+def check_grasp_masses(masses: FloatArray, inertia: FloatArray) -> None:
+    """Refuse link masses or inertias a physical grasp's controller cannot move.
+
+    ``inertia`` is in the simulation's units (lengths scaled to a mean link
+    length of 1). Masses must lie in ``[MIN_GRASP_MASS, MAX_GRASP_MASS]`` and
+    inertias must not exceed ``MAX_GRASP_MASS``.
+
+    >>> check_grasp_masses(np.r_[1.0, 1e300], np.r_[0.1, 0.1])
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: masses: link 1 weighs 1e+300, outside [1e-12, 1e+12] where \
+the grasp's controller can move the chain (masses in kg, links of mean length 1): \
+express them in other units
+    """
+    limit = "where the grasp's controller can move the chain (masses in kg, links of mean length 1)"
+    bad = ~((masses >= MIN_GRASP_MASS) & (masses <= MAX_GRASP_MASS))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InputError(
+            f"masses: link {i} weighs {masses[i]:.4g}, outside [{MIN_GRASP_MASS:g}, "
+            f"{MAX_GRASP_MASS:g}] {limit}: express them in other units"
+        )
+    bad = ~(inertia <= MAX_GRASP_MASS)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InputError(
+            f"inertia: link {i} has inertia {inertia[i]:.4g}, above {MAX_GRASP_MASS:g} "
+            f"{limit}: express them in other units"
+        )
+
+
 # Planar chain (tentaclass.manipulator): link parameters, joint arrays, time grids.
 
 

@@ -272,6 +272,10 @@ def test_batch_and_model_refuse_what_is_not_a_chain():
         ({"timestep": 1e-9}, r"up to 3.11e\+10 simulation steps \(31.11 s in steps of 1e-09 s"),
         ({"controller": CurlController(control_steps=10**9)}, r"up to 1e\+09 simulation steps"),
         ({"controller": CurlController(speed=1e-300)}, r"up to 2.51e\+304 simulation steps"),
+        # masses the controller cannot move: a chain of 1e21 kg links used to read as at rest
+        ({"chain": PlanarChain([0.5] * 8, masses=1e300)}, r"masses: link 0 weighs 1e\+300"),
+        ({"chain": PlanarChain([0.5] * 8, masses=[1.0] * 7 + [1e-300])}, r"link 7 weighs 1e-300"),
+        ({"chain": PlanarChain([0.5] * 8, inertia=1e300)}, r"inertia: link 0 has inertia 4e\+300"),
     ],
 )
 def test_bad_input(kwargs, match):

@@ -11,6 +11,7 @@ import shapely
 from .._typing import ArrayLike, FloatArray
 from .._validation import (
     check_finite_float,
+    check_grasp_masses,
     check_links_fit,
     check_positive_float,
     check_positive_int,
@@ -207,7 +208,9 @@ def grasp(
         :func:`tentaclass.wrap` refuses them), more
         links than MuJoCo builds (:data:`tentaclass.physics.MAX_LINKS`), start
         outside [0, 1), negative offset, an approach that passes through the object,
-        a thickness below ``1e-12`` of the object's diameter, or a simulation of
+        a thickness below ``1e-12`` of the object's diameter, link masses outside
+        ``[1e-12, 1e12]`` kg or inertias above ``1e12`` (in units of the mean link
+        length, where the controller cannot move the chain), or a simulation of
         more than ``MAX_STEPS`` (100,000,000) steps.
 
     Notes
@@ -244,6 +247,7 @@ def grasp(
     if isinstance(chain, PlanarChain):
         check_chain_depth(chain.n_links)  # before the setup, whose work grows with the links
     su = _prepare(outline, chain, start, offset, direction, thickness, simplify)
+    check_grasp_masses(su.norm_chain.masses, su.norm_chain.inertia)
     if su.early is not None:
         return su.early
     pieces = convex_pieces(su.outline)
