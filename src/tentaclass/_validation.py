@@ -7,13 +7,14 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
+import warnings
 from collections.abc import Collection, Sequence
 from typing import Any
 
 import numpy as np
 
 from ._typing import ArrayLike, FloatArray
-from .errors import InputError, ShapeError
+from .errors import InputError, ShapeError, TentaclassWarning
 
 
 def as_float_array(
@@ -299,6 +300,31 @@ def check_one_value(value: ArrayLike, name: str, hint: str = "") -> None:
     size = None if ndim is None else int(np.size(value))
     count = "a ragged sequence" if size is None else f"{size} value{'' if size == 1 else 's'}"
     raise InputError(f"{name} must be one number, got {count}{hint}")
+
+
+def cap_count(requested: int | None, available: int, name: str, what: str) -> int:
+    """``requested``, or ``available`` with a warning when fewer are available.
+
+    ``None`` takes ``available`` without a warning.
+
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     cap_count(50, 10, "n_centers", "distinct training samples")
+    10
+    >>> print(caught[0].message)
+    n_centers=50 is more than the 10 distinct training samples: using 10
+    """
+    if requested is None:
+        return available
+    if requested > available:
+        warnings.warn(
+            f"{name}={requested} is more than the {available} {what}: using {available}",
+            TentaclassWarning,
+            stacklevel=3,
+        )
+        return available
+    return requested
 
 
 def check_finite_float(value: object, name: str) -> float:

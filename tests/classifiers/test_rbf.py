@@ -7,6 +7,7 @@ from threadpoolctl import threadpool_limits
 
 from tentaclass.classifiers import FourierClassifier, RBFNetworkClassifier
 from tentaclass.datasets import thesis_tentacle
+from tentaclass.errors import TentaclassWarning
 
 
 @pytest.fixture(autouse=True)
@@ -88,9 +89,23 @@ def test_kmeans_centres_are_seeded(rng):
 
 def test_kmeans_with_fewer_distinct_points_than_centres():
     X = [[0.0], [0.0], [1.0], [1.0]]
-    clf = RBFNetworkClassifier(centers="kmeans", n_centers=10, random_state=0).fit(X, [0, 0, 1, 1])
+    clf = RBFNetworkClassifier(centers="kmeans", n_centers=10, random_state=0)
+    with pytest.warns(TentaclassWarning, match="n_centers=10 is more than the 2 distinct training"):
+        clf.fit(X, [0, 0, 1, 1])
     assert clf.n_centers_ == 2
     assert clf.predict(X).tolist() == [0, 0, 1, 1]
+
+
+def test_more_centres_than_samples_warns_for_kmeans_only():
+    X = np.arange(12.0).reshape(6, 2)
+    y = [0, 0, 0, 1, 1, 1]
+    with pytest.warns(TentaclassWarning, match="n_centers=50 is more than the 6 distinct"):
+        km = RBFNetworkClassifier(centers="kmeans", n_centers=50, random_state=0).fit(X, y)
+    assert km.n_centers_ == 6
+    # forward selection takes n_centers as its upper bound, and "all" ignores it
+    for centers in ("forward", "all"):
+        clf = RBFNetworkClassifier(centers=centers, n_centers=50, spread=3.0).fit(X, y)
+        assert clf.n_centers_ <= 6
 
 
 @pytest.mark.parametrize("scale", [0.01, 1.0, 100.0])

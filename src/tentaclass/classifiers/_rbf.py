@@ -7,7 +7,13 @@ from sklearn.cluster import KMeans
 from sklearn.utils import check_random_state
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import check_choice, check_positive_float, check_positive_int, check_spread
+from .._validation import (
+    cap_count,
+    check_choice,
+    check_positive_float,
+    check_positive_int,
+    check_spread,
+)
 from ._base import BaseProbabilisticClassifier
 from ._pnn import MIN_SPREAD, NEWPNN_BIAS, _evenly, _median_nn, _sq_dist
 
@@ -117,7 +123,13 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
         (evenly spaced in the training order).
     n_centers : int, optional
         Number of centres for ``"kmeans"``, the most for ``"forward"``;
-        default ``min(n_samples, 100)``. Ignored by ``"all"``.
+        default ``min(n_samples, 100)``. Ignored by ``"all"``. ``"kmeans"``
+        cannot find more centroids than distinct training samples: it fits that
+        many, with a :class:`~tentaclass.errors.TentaclassWarning` when
+        ``n_centers`` asked for more. ``"forward"`` chooses among at most
+        ``min(n_samples, 2000)`` candidates, so it never returns more (without a
+        warning: ``n_centers`` is only its upper bound). ``n_centers_`` is the
+        number fitted.
     spread : float or "auto", default="auto"
         Width of the Gaussians. ``"auto"`` picks, on a log grid from 0.5 to 32
         times the median nearest-neighbour distance between centres (training
@@ -218,7 +230,12 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
             fixed = X
         elif self.centers == "kmeans":
             distinct = np.unique(X, axis=0).shape[0]
-            km = KMeans(n_clusters=min(k, distinct), n_init=3, random_state=rng).fit(X)
+            if self.n_centers is None:
+                k = min(k, distinct)
+            else:
+                what = "distinct training samples"
+                k = cap_count(int(self.n_centers), distinct, "n_centers", what)
+            km = KMeans(n_clusters=k, n_init=3, random_state=rng).fit(X)
             fixed = km.cluster_centers_
         else:
             fixed = None
