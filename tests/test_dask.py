@@ -194,6 +194,11 @@ def test_read_parquet_rows_types_and_imports(tmp_path):
     assert out.stdout.split() == ["[1.0,", "2.0,", "3.0]", "False"]
 
 
+def test_read_parquet_rows_names_a_path_that_is_not_a_file_name():
+    with pytest.raises(InputError, match=r"paths must be a file name .*, got None"):
+        tc.read_parquet_rows([None])
+
+
 def test_estimator_agrees_with_dask_ml(client, data):
     """An independent implementation of block-wise predict: dask-ml's ParallelPostFit."""
     wrappers = pytest.importorskip("dask_ml.wrappers")

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import check_seed
+from ._validation import as_path, check_seed
 from .errors import InputError, TentaclassError
 
 __all__ = [
@@ -815,7 +815,7 @@ def read_parquet_rows(
 
     if isinstance(paths, (str, os.PathLike)):
         paths = [paths]
-    files = [os.fspath(p) for p in paths]
+    files = [os.fspath(as_path(p, "paths")) for p in paths]
     if not files:
         raise InputError("paths: no Parquet files given")
     dtype = np.dtype(dtype)

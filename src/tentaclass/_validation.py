@@ -7,8 +7,10 @@ private kernels behind it assume clean arrays.
 from __future__ import annotations
 
 import numbers
+import os
 import warnings
 from collections.abc import Collection, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -325,6 +327,24 @@ def cap_count(requested: int | None, available: int, name: str, what: str) -> in
         )
         return available
     return requested
+
+
+def as_path(value: object, name: str = "path") -> Path:
+    """A file or folder name: a non-empty ``str`` or ``os.PathLike``, as a Path.
+
+    >>> as_path(None, "path")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: path must be a file name (str or os.PathLike), got None
+    """
+    if isinstance(value, str) and not value:
+        raise InputError(f"{name} is an empty string: give a file name")
+    if isinstance(value, (str, os.PathLike)):
+        try:
+            return Path(value)
+        except TypeError:  # an os.PathLike of bytes
+            pass
+    raise InputError(f"{name} must be a file name (str or os.PathLike), got {value!r}")
 
 
 def check_finite_float(value: object, name: str) -> float:

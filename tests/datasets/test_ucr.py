@@ -51,3 +51,11 @@ def test_reads_both_formats_alike(tmp_path):
 def test_unreadable_files_are_named(tmp_path, train, ext, match):
     with pytest.raises(InputError, match=match):
         load_ucr(_data_set(tmp_path, train, ext=ext))
+
+
+@pytest.mark.parametrize(
+    ("path", "match"), [(None, "got None"), (7, "got 7"), ("", "path is an empty string")]
+)
+def test_a_path_that_is_not_a_file_name_is_named(path, match):
+    with pytest.raises(InputError, match=match):
+        load_ucr(path)

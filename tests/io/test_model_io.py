@@ -14,7 +14,7 @@ from tentaclass.classifiers import (
     TentacleClassifier,
 )
 from tentaclass.datasets import reference_tentacle, thesis_tentacle
-from tentaclass.errors import ModelFileError
+from tentaclass.errors import InputError, ModelFileError
 from tentaclass.features import FourierFeatures
 from tentaclass.io import load_model, model_info, save_model
 from tentaclass.io._model_file import FORMAT_NAME, FORMAT_VERSION
@@ -218,6 +218,23 @@ def test_missing_file(tmp_path):
             read(tmp_path / "none.tcm")
         with pytest.raises(ModelFileError, match=r"none\.tcm: no such model file"):
             read(tmp_path / "none.tcm")
+
+
+@pytest.mark.parametrize(
+    ("path", "match"),
+    [
+        (None, r"path must be a file name \(str or os.PathLike\), got None"),
+        (3, "path must be a file name .*, got 3"),
+        (b"m.tcm", "path must be a file name .*, got b'm.tcm'"),
+        ("", "path is an empty string"),
+    ],
+)
+def test_a_path_that_is_not_a_file_name_is_named(data, path, match):
+    # these used to raise TypeError from pathlib (or read the current folder)
+    X, y, _ = data
+    for call in (load_model, model_info, lambda p: save_model(FourierClassifier().fit(X, y), p)):
+        with pytest.raises(InputError, match=match):
+            call(path)
 
 
 def test_a_directory_is_not_a_model_file(tmp_path):

@@ -9,6 +9,7 @@ import numpy as np
 from sklearn.utils import Bunch
 
 from .._lazy import import_extra
+from .._validation import as_path
 from ..errors import InputError
 
 #: Shape-outline data sets that aeon ships inside its package (no download).
@@ -162,7 +163,7 @@ def load_ucr(path: str | os.PathLike, name: str | None = None) -> Bunch:
     >>> b.data.shape, b.target.tolist(), b.split.tolist()
     ((3, 3), ['1', '2', '1'], ['train', 'train', 'test'])
     """
-    p = Path(path)
+    p = as_path(path)
     if p.is_file():
         stem = p.stem.rsplit("_", 1)[0]
         folder, name = p.parent, name or stem

@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from .. import classifiers
+from .._validation import as_path
 from ..errors import InputError, ModelFileError, ModelFileNotFoundError
 
 __all__ = ["FORMAT_NAME", "FORMAT_VERSION", "load_model", "model_info", "save_model"]
@@ -314,6 +315,7 @@ def save_model(estimator: object, path: str | os.PathLike, *, info: dict | None 
 
     _class_name(estimator)
     check_is_fitted(estimator)
+    path = as_path(path)
     info = {} if info is None else info
     if not isinstance(info, dict):
         raise InputError(f"info must be a dict, got {type(info).__name__}")
@@ -336,7 +338,6 @@ def save_model(estimator: object, path: str | os.PathLike, *, info: dict | None 
             for name, arr in writer.arrays.items()
         },
     }
-    path = Path(path)
     with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as zf:
         zf.writestr(_METADATA, json.dumps(meta, indent=None, sort_keys=True))
         for name, blob in blobs.items():
@@ -738,7 +739,7 @@ def model_path(path: str | os.PathLike) -> Path:
     ...
     tentaclass.errors.ModelFileError: ...: is a directory, not a model file
     """
-    path = Path(path)
+    path = as_path(path)
     if path.is_file():
         return path
     if path.is_dir():
