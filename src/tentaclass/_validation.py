@@ -9,7 +9,7 @@ from __future__ import annotations
 import numbers
 import os
 import warnings
-from collections.abc import Collection, Sequence
+from collections.abc import Collection, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -345,6 +345,28 @@ def as_path(value: object, name: str = "path") -> Path:
         except TypeError:  # an os.PathLike of bytes
             pass
     raise InputError(f"{name} must be a file name (str or os.PathLike), got {value!r}")
+
+
+def as_list_of(value: object, name: str, kind: type) -> list[Any]:
+    """``value`` as a list whose items are all ``kind`` instances.
+
+    >>> as_list_of(3, "values", float)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: values must be a sequence of float, got int
+    >>> as_list_of([1.0, "2"], "values", float)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: values[1] must be a float, got str
+    """
+    what = kind.__name__
+    if isinstance(value, (str, bytes, kind)) or not isinstance(value, Iterable):
+        raise InputError(f"{name} must be a sequence of {what}, got {type(value).__name__}")
+    items = list(value)
+    for i, item in enumerate(items):
+        if not isinstance(item, kind):
+            raise InputError(f"{name}[{i}] must be a {what}, got {type(item).__name__}")
+    return items
 
 
 def check_finite_float(value: object, name: str) -> float:

@@ -78,6 +78,25 @@ def test_bad_images():
 
 
 @pytest.mark.parametrize(
+    ("objects", "match"),
+    [
+        (3, r"^objects must be a sequence of ScannedObject, got int"),  # was a TypeError
+        ("id", r"^objects must be a sequence of ScannedObject, got str"),
+        ([None], r"^objects\[0\] must be a ScannedObject, got NoneType"),  # an AttributeError
+    ],
+)
+def test_objects_that_are_not_scanner_records_are_named(tmp_path, objects, match):
+    from tentaclass.errors import InputError
+
+    belt = make_belt(2, width=64, random_state=0)
+    with pytest.raises(InputError, match=match):
+        plot_belt(belt.image, objects)
+    with pytest.raises(InputError, match=match):
+        save_belt_figure(belt.image, objects, tmp_path / "belt.png")
+    assert not (tmp_path / "belt.png").exists()
+
+
+@pytest.mark.parametrize(
     ("dpi", "match"),
     [
         (0, r"^dpi must be at least 1, got 0"),  # was a ZeroDivisionError

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_belt_image, as_binary_grid, check_positive_int
+from .._validation import as_belt_image, as_binary_grid, as_list_of, check_positive_int
 from ..errors import InputError
 from ..scanner import (
     Inspection,
@@ -169,6 +169,7 @@ def plot_belt(
     from matplotlib.patches import Rectangle
 
     img = as_belt_image(image, "image")
+    objects = as_list_of(objects, "objects", ScannedObject)
     ax = axes_or_new(ax)
     if img.dtype == bool:
         kw = {"cmap": "Greys", "vmin": 0, "vmax": 1.6, "interpolation": "nearest"}
@@ -222,6 +223,7 @@ def save_belt_figure(
     img = as_belt_image(image, "image")
     h, w = img.shape
     dpi = check_positive_int(dpi, "dpi")
+    objects = as_list_of(objects, "objects", ScannedObject)
     scale = min(1.0, 2400.0 / max(h, w)) * 3 / dpi
     size = (max(4.0, w * scale + 1.5), max(3.0, h * scale + 1.0))
     pixels = max(size) * dpi
