@@ -116,6 +116,22 @@ def one_line(r):
             "'--annotate': 'b.xyz': cannot write .xyz; use .eps",
         ),
         (["grasp", "--gif", "g.png"], "tentaclass grasp", "'g.png': cannot write .png; use .gif"),
+        # options of one dataset given with another (they were ignored)
+        (
+            ["bench", "--name", "SwedishLeaf"],
+            "tentaclass bench",
+            "--name: applies to --dataset ucr only, not to --dataset reference",
+        ),
+        (
+            ["bench", "--dataset", "ArrowHead", "--ucr-path", "."],
+            "tentaclass bench",
+            "--ucr-path: applies to --dataset ucr only, not to --dataset ArrowHead",
+        ),
+        (
+            ["bench", "--dataset", "synthetic", "--data-dir", "mpeg7"],
+            "tentaclass bench",
+            "--data-dir: applies to --dataset mpeg7 only, not to --dataset synthetic",
+        ),
     ],
 )
 def test_usage_errors_take_one_line(args, command, message):

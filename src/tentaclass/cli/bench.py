@@ -137,6 +137,16 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
                                  param_hint="--methods")  # fmt: skip
     if jobs == 0:
         raise click.BadParameter("must be -1 (all cores) or at least 1", param_hint="--jobs")
+    only = {
+        "--name": (ucr_name, "ucr"),
+        "--ucr-path": (ucr_path, "ucr"),
+        "--data-dir": (data_dir, "mpeg7"),
+    }
+    for hint, (value, needs) in only.items():
+        if value is not None and dataset != needs:
+            raise click.BadParameter(
+                f"applies to --dataset {needs} only, not to --dataset {dataset}", param_hint=hint
+            )
     make_folder(out, "--out")
     with dask_client(scheduler) as client:  # generates the wraps on the cluster
         kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, random_state,
