@@ -185,6 +185,26 @@ def test_classify_files_empty_input_gives_an_empty_table(tmp_path):
             assert table.column_names == columns
 
 
+@pytest.mark.parametrize("command", ["wrap", "grasp"])
+def test_a_mask_that_is_not_an_image_of_an_object_is_an_input_error(tmp_path, command):
+    # a file that exists but holds no image (or no object) is bad input, exit code 1 as
+    # for classify --model or scan: it was a usage error (exit code 2, "see -h")
+    from PIL import Image
+
+    (tmp_path / "text.png").write_text("not an image")
+    (tmp_path / "empty.png").write_bytes(b"")
+    Image.new("L", (20, 20), 255).save(tmp_path / "blank.png")
+    for name, message in [
+        ("text.png", "text.png: cannot read the image (UnidentifiedImageError"),
+        ("empty.png", "empty.png: cannot read the image (UnidentifiedImageError"),
+        ("blank.png", "blank.png: no object found"),
+    ]:
+        r = run(command, "--mask", str(tmp_path / name))
+        assert r.exit_code == 1, r.output
+        line = one_line(r)
+        assert line.startswith(f"Error: {tmp_path / message}") and "-h'" not in line
+
+
 def test_classify_file_without_rows_is_the_same_error_for_every_kind(tmp_path):
     for path in _empty_angle_files(tmp_path / "in", 16):
         r = run("classify", "--file", str(path))

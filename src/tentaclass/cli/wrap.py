@@ -42,7 +42,11 @@ def _outline(
         if size is not None or vertices is not None:
             flag = "--size" if size is not None else "--vertices"
             raise click.UsageError(f"{flag} does not go with --mask (the image gives the object)")
-        return image_outline(mask)
+        try:
+            return image_outline(mask)
+        except (TentaclassError, ValueError, OSError) as exc:
+            # the file's content is bad input, as for the other commands' files: exit code 1
+            raise click.ClickException(str(exc).splitlines()[0]) from None
     shape = shape or "square"
     if vertices is not None and shape not in ("polygon", "triangle"):
         raise click.UsageError(f"--vertices is for --shape polygon or triangle, not {shape}")
