@@ -461,7 +461,7 @@ def as_binary_grid(grid: ArrayLike, name: str = "grid") -> np.ndarray:
         raise InputError(f"{name} must hold 0/1 or bool values, got dtype {arr.dtype}")
     ok = (arr == 0) | (arr == 1)
     if not np.all(ok):
-        bad = arr[~ok].ravel()[0]
+        bad = arr[~ok].ravel()[0].item()  # a Python number: "2", not "np.int64(2)"
         raise InputError(f"{name} must hold only 0 and 1, found {bad!r}")
     return arr.astype(bool)
 
@@ -889,6 +889,20 @@ def as_binary_grid_2d(grid: Any, name: str = "grid") -> np.ndarray:
     arr = as_binary_grid(grid, name)
     if arr.ndim != 2:
         raise InputError(f"{name} must be 2-D (rows, cols), got shape {arr.shape}")
+    return arr
+
+
+def as_object_mask(mask: Any, name: str = "mask") -> np.ndarray:
+    """One 2-D binary grid (see :func:`as_binary_grid`) holding at least one object pixel.
+
+    >>> as_object_mask(np.zeros((2, 3), bool))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: mask holds no object pixels (shape (2, 3))
+    """
+    arr = as_binary_grid_2d(mask, name)
+    if not arr.any():
+        raise InputError(f"{name} holds no object pixels (shape {arr.shape})")
     return arr
 
 

@@ -399,3 +399,25 @@ def test_defect_canvas_holds_every_pixel_inside_the_grown_outline(margin):
         checked += 1
         smaller += canvas[i].prod() < h * w
     assert checked > 200 and smaller > checked / 2
+
+
+@pytest.mark.parametrize(
+    ("mask", "match"),
+    [
+        # an empty mask measured a rectangle of uninitialised memory (2e-321), crop failed
+        # with an IndexError, and other arrays with AttributeError or AxisError
+        (np.zeros((3, 3), bool), r"holds no object pixels \(shape \(3, 3\)\)"),
+        (np.ones(4, bool), r"must be 2-D|at least 2 dimensions"),
+        ([[0, 2], [1, 0]], "must hold only 0 and 1, found 2$"),  # was np.int64(2)
+        (None, r"at least 2 dimensions, got shape \(\)"),
+    ],
+)
+def test_measure_and_crop_refuse_what_is_not_an_object_mask(mask, match):
+    from tentaclass.errors import InputError
+    from tentaclass.scanner import crop, measure
+
+    with pytest.raises(InputError, match=match):
+        measure(mask)
+    with pytest.raises(InputError, match=match):
+        crop(mask)
+    assert measure([[0, 1], [1, 1]]).area == 3 and crop([[0, 0], [0, 1]])[1:] == (1, 1)

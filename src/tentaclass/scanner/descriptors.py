@@ -44,6 +44,7 @@ import shapely
 from skimage.measure import regionprops
 
 from .._deprecation import UNSET, renamed
+from .._validation import as_object_mask
 from ..errors import InputError
 from ..features import fourier_features
 from ..features.fourier import MATMUL_MAX_JOINTS, _features_fft, _features_matmul
@@ -305,7 +306,8 @@ def measure(mask: np.ndarray) -> Geometry:
     Parameters
     ----------
     mask : ndarray of bool, shape (rows, cols)
-        The object's pixels (one connected object, validated by the caller).
+        The object's pixels: one connected object (bool, or 0 and 1), at
+        least one pixel.
 
     Returns
     -------
@@ -323,7 +325,7 @@ def measure(mask: np.ndarray) -> Geometry:
     >>> g.area, g.length, g.width, g.orientation
     (8, 4.0, 2.0, 0.0)
     """
-    return measure_many([mask])[0][0]
+    return measure_many([as_object_mask(mask)])[0][0]
 
 
 def _padded_rings(coords: np.ndarray, index: np.ndarray, n: int) -> np.ndarray:

@@ -24,7 +24,7 @@ from sklearn.utils.validation import check_is_fitted
 
 from .._deprecation import DEPRECATED, renamed_param
 from .._thesis_data import scanner_training_grids
-from .._validation import MAX_POINTS, as_grid_list, check_positive_int
+from .._validation import MAX_POINTS, as_grid_list, as_object_mask, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
 from ..features.fourier import _blas_controller
@@ -53,7 +53,11 @@ _SAVABLE = {"PNNClassifier": PNNClassifier, "KNeighborsClassifier": KNeighborsCl
 
 
 def crop(grid: np.ndarray) -> tuple[np.ndarray, int, int]:
-    """The grid cut to its object's bounding box, and the box's top-left corner."""
+    """The grid cut to its object's bounding box, and the box's top-left corner.
+
+    ``grid`` is 2-D, bool or 0 and 1, with at least one object pixel.
+    """
+    grid = as_object_mask(grid, "grid")
     rows = np.nonzero(grid.any(axis=1))[0]
     cols = np.nonzero(grid.any(axis=0))[0]
     return grid[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1], int(rows[0]), int(cols[0])
