@@ -54,6 +54,15 @@ def test_from_stroke_refuses(stroke, message):
         from_stroke(stroke)
 
 
+@pytest.mark.parametrize("smoothing", [1.5, 1e12])
+def test_from_stroke_refuses_a_smoothing_wider_than_the_outline(smoothing):
+    # 1.5 read as "stroke encloses no area", 1e12 was a MemoryError (14.6 PiB)
+    square = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
+    with pytest.raises(InputError, match=r"smoothing must be at most 1 .*, got (1.5|1e\+12)"):
+        from_stroke(square, smoothing=smoothing)
+    assert from_stroke(square, smoothing=0.1).shape == (128, 2)
+
+
 def test_from_stroke_refuses_a_figure_eight_but_keeps_a_small_loop():
     t = np.linspace(0, 2 * np.pi, 200)
     eight = np.stack([np.sin(t), np.sin(2 * t) / 2], axis=1)

@@ -57,6 +57,9 @@ def test_errors():
         closing_link_length(shapes.square(4), 1)
     with pytest.raises(InputError, match="no link length"):
         max_link_length(shapes.square(4), 1e-12, starts=[0.1])
+    # a TypeError from the bisection before
+    with pytest.raises(InputError, match="rtol must be a number, got None"):
+        closing_link_length(shapes.square(4), 16, rtol=None)
 
 
 @pytest.mark.slow

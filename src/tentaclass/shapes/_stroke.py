@@ -75,7 +75,7 @@ def from_stroke(points: ArrayLike, n_points: int = 128, *, smoothing: float = 0.
         Points of the returned outline, equally spaced along it (at most 1,000,000).
     smoothing : float, default=0.01
         Standard deviation of the Gaussian smoothing, as a fraction of the
-        perimeter (0 turns smoothing off).
+        perimeter, at most 1 (0 turns smoothing off).
 
     Returns
     -------
@@ -129,6 +129,11 @@ def from_stroke(points: ArrayLike, n_points: int = 128, *, smoothing: float = 0.
         raise InputError("stroke contains NaN or infinite coordinates")
     n_points = check_positive_int(n_points, "n_points", minimum=3, maximum=MAX_POINTS)
     smoothing = check_positive_float(smoothing, "smoothing", allow_zero=True)
+    if smoothing > 1:
+        raise InputError(
+            f"smoothing must be at most 1 (a Gaussian one perimeter wide already leaves no "
+            f"shape), got {smoothing:g}"
+        )
     keep = np.r_[True, np.any(np.diff(p, axis=0) != 0, axis=1)]
     p = p[keep]
     if len(p) < 3:

@@ -150,6 +150,7 @@ def closing_link_length(
     """
     p = as_outline(outline)
     n = check_positive_int(n_links, "n_links", minimum=2)
+    rtol = check_positive_float(rtol, "rtol", allow_zero=True)
     per = float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
     d = outline_diameter(p)
 
