@@ -28,6 +28,10 @@ from tentaclass.manipulator import PlanarChain
         ({"com": [0.5, 0.0], "inertia": [0.1, 0.0]}, "the last link is a point mass"),
         ({"gravity": -9.81}, "gravity must be a finite number >= 0"),
         ({"gravity": np.nan}, "gravity must be a finite number >= 0"),
+        # a KeyError before
+        ({"masses": None}, "masses must be a number or one per link, got None"),
+        ({"com": None}, "com must be a number or one per link, got None"),
+        ({"link_lengths": None}, "link_lengths must be a number or one per link, got None"),
     ],
 )
 def test_bad_chain_parameters(kwargs, match):

@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 
+from tentaclass.errors import ShapeError
 from tentaclass.plot import features as plotting
 
 plt = pytest.importorskip("matplotlib.pyplot")
@@ -27,7 +28,7 @@ def test_plot_functions_return_artists_and_refuse_batches():
     assert len(bars) == 8
     lines = plotting.plot_turning(np.full(16, np.pi / 8), ax=ax)
     assert lines[0].get_ydata()[-1] == pytest.approx(2 * np.pi)
-    with pytest.raises(ValueError, match="one joint-angle array"):
+    with pytest.raises(ShapeError, match="one joint-angle array"):  # a bare ValueError before
         plotting.plot_shape(np.zeros((2, 8)), ax=ax)
     plt.close(fig)
 

@@ -106,6 +106,9 @@ class PlanarChain:
         inertia: ArrayLike | None = None,
         gravity: float = 9.81,
     ) -> None:
+        for name, value in (("link_lengths", link_lengths), ("masses", masses), ("com", com)):
+            if value is None:  # (only inertia has a default to compute)
+                raise InputError(f"{name} must be a number or one per link, got None")
         n, p = check_link_parameters(
             link_lengths=link_lengths, masses=masses, com=com, inertia=inertia
         )

@@ -12,6 +12,7 @@ import numpy as np
 
 from .._typing import ArrayLike
 from .._validation import as_angle_array
+from ..errors import ShapeError
 from ..features import fourier_features, periodic_signal, turning_function
 from ..geometry import angles_to_points
 from ._axes import axes_or_new, without_rounding_noise
@@ -29,7 +30,7 @@ def _one_on(q: ArrayLike, ax: Any) -> tuple[np.ndarray, Any]:
     """The one joint-angle array to draw, and the axes to draw it on (new for ``None``)."""
     q = as_angle_array(q, "q")
     if q.ndim != 1:
-        raise ValueError(
+        raise ShapeError(
             f"plotting takes one joint-angle array of shape (n_joints,), got {q.shape}"
         )
     return q, axes_or_new(ax)
