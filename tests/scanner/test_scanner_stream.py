@@ -163,6 +163,9 @@ def test_bad_rows_are_refused_and_earlier_objects_kept():
         scanner.feed(np.array([["a"] * 5]))
     with pytest.raises(InputError, match="shape"):
         scanner.feed(np.zeros((1, 1, 5)))
+    for nothing in (None, {}):  # a TypeError before
+        with pytest.raises(InputError, match=r"row 4: rows must be an array of shape \(width,\)"):
+            scanner.feed(nothing)
     assert scanner.rows_seen == 4  # the refused chunks changed nothing
     assert scanner.feed(img[4:]) == [] and scanner.close() == []
 

@@ -258,6 +258,11 @@ class LineScanner:
                 arr = np.asarray(rows)
             except (ValueError, TypeError):
                 arr = None
+            if arr is not None and arr.ndim == 0 and arr.dtype == object:
+                raise InputError(
+                    f"row {self.rows_seen}: rows must be an array of shape (width,) or "
+                    f"(n_rows, width), or bytes, got {type(rows).__name__}"
+                )
             if arr is None or arr.dtype == object:
                 lens = []
                 for r in rows:
