@@ -524,6 +524,27 @@ def check_X_y(
         raise _input_error(ragged_error(X, "X", exc)) from None
 
 
+def check_distance_scale(X: FloatArray, name: str = "X") -> None:
+    """Refuse features so large that squared distances between rows overflow float64.
+
+    >>> check_distance_scale(np.full((2, 16), 1e160))
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: X holds a value of 1e+160: squared distances between \
+rows of 16 features overflow float64 beyond about 1.68e+153; scale the features
+    """
+    if X.size == 0:
+        return
+    top = float(np.max(np.abs(X)))
+    limit = float(np.sqrt(np.finfo(np.float64).max / X.shape[-1])) / 2
+    if top > limit:
+        raise InputError(
+            f"{name} holds a value of {top:.4g}: squared distances between rows of "
+            f"{X.shape[-1]} features overflow float64 beyond about {limit:.3g}; scale the "
+            "features"
+        )
+
+
 def check_targets(y: ArrayLike) -> None:
     """scikit-learn's ``check_classification_targets``, raising :class:`InputError`.
 

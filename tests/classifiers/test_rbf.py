@@ -7,7 +7,7 @@ from threadpoolctl import threadpool_limits
 
 from tentaclass.classifiers import FourierClassifier, RBFNetworkClassifier
 from tentaclass.datasets import thesis_tentacle
-from tentaclass.errors import TentaclassWarning
+from tentaclass.errors import InputError, TentaclassWarning
 
 
 @pytest.fixture(autouse=True)
@@ -179,3 +179,13 @@ def test_bad_parameters_are_named(params, message):
     X, y = [[0.0], [1.0]], [0, 1]
     with pytest.raises(InputError, match=message):
         RBFNetworkClassifier(**params).fit(X, y)
+
+
+@pytest.mark.parametrize("centers", ["all", "kmeans", "forward"])
+def test_features_whose_squared_distances_overflow_are_refused(centers):
+    # a LinAlgError ("Eigenvalues did not converge") from the spread's search before
+    X, y = thesis_tentacle(16, return_X_y=True)
+    clf = RBFNetworkClassifier(centers=centers, n_centers=4, random_state=0)
+    with pytest.raises(InputError, match=r"X holds a value of 2.094e\+160: squared distances"):
+        clf.fit(X * 1e160, y)
+    assert clf.fit(X * 1e150, y).score(X * 1e150, y) == 1.0  # large, but within float64

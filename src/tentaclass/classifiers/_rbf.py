@@ -10,6 +10,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validation import (
     cap_count,
     check_choice,
+    check_distance_scale,
     check_positive_float,
     check_positive_int,
     check_spread,
@@ -220,6 +221,7 @@ class RBFNetworkClassifier(BaseProbabilisticClassifier):
 
     def _fit(self, X: FloatArray, classes: np.ndarray, y_idx: np.ndarray) -> None:
         """Choose the centres and the spread, and solve the output layer."""
+        check_distance_scale(X)  # (the centres' design matrix and the spread need them)
         rng = check_random_state(self.random_state)
         Y = np.eye(classes.size)[y_idx]
         n = X.shape[0]
