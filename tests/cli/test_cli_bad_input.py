@@ -116,6 +116,8 @@ def one_line(r):
             "'--annotate': 'b.xyz': cannot write .xyz; use .eps",
         ),
         (["grasp", "--gif", "g.png"], "tentaclass grasp", "'g.png': cannot write .png; use .gif"),
+        # a number beyond float64 was read as inf, then refused as "NaN or infinite" (exit 1)
+        (["classify", "1e400 0 0 pi/2"], "tentaclass classify", "'1e400' is too large: not a"),
         # options of one dataset given with another (they were ignored)
         (
             ["bench", "--name", "SwedishLeaf"],
@@ -203,6 +205,16 @@ def test_a_mask_that_is_not_an_image_of_an_object_is_an_input_error(tmp_path, co
         assert r.exit_code == 1, r.output
         line = one_line(r)
         assert line.startswith(f"Error: {tmp_path / message}") and "-h'" not in line
+
+
+@pytest.mark.parametrize("command", ["classify", "scan"])
+def test_an_out_dir_that_cannot_be_made_is_a_usage_error_naming_the_option(tmp_path, command):
+    # it was "[Errno 20] Not a directory" alone, after the inputs were read
+    (tmp_path / "a.txt").write_text("0 0 0 1.5707963 " * 4 + "\n")
+    (tmp_path / "file").write_text("")
+    r = run(command, "--files", str(tmp_path / "a.txt"), "--out-dir", str(tmp_path / "file/out"))
+    assert r.exit_code == 2
+    assert one_line(r).startswith("Error: Invalid value for --out-dir: cannot create the folder")
 
 
 def test_classify_file_without_rows_is_the_same_error_for_every_kind(tmp_path):

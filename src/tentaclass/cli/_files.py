@@ -24,7 +24,7 @@ from .._lazy import import_extra
 from .._validation import check_angle_range, check_total_turn
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
-from .options import parse_angle_rows, read_angle_file
+from .options import make_folder, parse_angle_rows, read_angle_file
 
 #: Arrays read, featurised and classified per step.
 BLOCK_ROWS = 65536
@@ -53,7 +53,7 @@ def expand(pattern: str, suffixes: tuple[str, ...] | None = None) -> list[Path]:
 
 def output_paths(inputs: list[Path], out_dir: Path, suffix: str) -> list[Path]:
     """``out_dir/<stem><suffix>`` for each input; creates ``out_dir``."""
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir, "--out-dir")
     return [out_dir / f"{p.stem}{suffix}" for p in inputs]
 
 
@@ -261,7 +261,7 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any,
         out_dir / f"{p.stem}.labels{'.parquet' if p.suffix.lower() == '.parquet' else '.csv'}"
         for p in inputs
     ]
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_folder(out_dir, "--out-dir")
     from .._dask import map_files
 
     counts = map_files(classify_file, inputs, outputs, models, client=client)

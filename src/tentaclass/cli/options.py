@@ -43,6 +43,8 @@ def parse_angle(token: str) -> float:
             f"{token!r} is not a number or an expression of pi such as pi/2, 2*pi/3, -pi/8"
         )
     value = float(m["coef"]) if m["coef"] is not None else 1.0
+    if not np.isfinite(value):
+        raise ValueError(f"{token!r} is too large: not a finite number")
     if m["pi"]:
         value *= np.pi
     if m["den"] is not None:
