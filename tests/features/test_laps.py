@@ -55,3 +55,21 @@ def test_square_with_approach():
     s = split_laps(np.r_[approach, square, square[:8]], n_out=16)
     assert np.isclose(s.period, 16.0) and int(s.offset) == 2 and bool(s.closed)
     np.testing.assert_allclose(s.lap.sum(), 2 * np.pi)
+
+
+def test_lap_search_in_blocks_of_candidates_gives_the_same_laps(monkeypatch):
+    # a long chain's search was one (candidates x arcs) block per row: 4.5 GB at 2000 links
+    from tentaclass import shapes, wrap
+    from tentaclass.features import laps
+
+    rng = np.random.default_rng(3)
+    q = np.array([
+        wrap(shapes.rectangle(3.0, 1.0), 120, 0.09, start=0.2).angles,
+        wrap(shapes.circle(1.0), 120, 0.1).angles + rng.normal(0, 0.02, 120),
+    ])  # fmt: skip
+    whole = split_laps(q, n_out=32)
+    monkeypatch.setattr(laps, "_WORK_VALUES", 5_000)  # blocks of 20 candidates
+    blocks = split_laps(q, n_out=32)
+    for name in ("period", "laps", "lap", "offset", "closed"):
+        np.testing.assert_array_equal(getattr(blocks, name), getattr(whole, name), err_msg=name)
+    assert np.all(whole.closed)

@@ -25,6 +25,8 @@ __all__ = ["LapSplit", "split_laps"]
 
 #: Candidate lap lengths are tried on a grid this fine (in links).
 _STEP = 0.1
+#: (row, candidate, arc) values :func:`_periods` holds at a time.
+_WORK_VALUES = 2_000_000
 #: A lap is accepted when the heading has turned within this of a full turn.
 _TURN_TOL = np.pi / 2
 #: ... and the chain's end lies within this fraction of a lap of the point one lap before.
@@ -105,32 +107,50 @@ def _periods(heading: FloatArray, points: np.ndarray, start: FloatArray) -> Floa
     cands = np.arange(3.0, n + _STEP / 2, _STEP)
     s = np.arange(0.5, n, 0.5)  # arc positions compared
     out = np.full(b, np.nan)
-    chunk = max(1, 2_000_000 // (len(cands) * len(s)))
+    # at most about 2e6 (row, candidate, arc) values at a time: rows in chunks, and for
+    # long chains (one row already more) candidates in blocks, so memory stays bounded
+    chunk = max(1, _WORK_VALUES // (len(cands) * len(s)))
     for lo in range(0, b, chunk):
         h, p, a = heading[lo : lo + chunk], points[lo : lo + chunk], start[lo : lo + chunk]
         m = len(h)
-        earlier = s[None, None, :] - cands[None, :, None]  # (1, c, s)
-        valid = earlier >= a[:, None, None]  # (m, c, s)
         # heading at arc x: link midpoints at k + 0.5
         now = _interp(h, np.broadcast_to(s - 0.5, (m, len(s))))[:, None, :]
-        then = _interp(h, np.broadcast_to(earlier - 0.5, (m, len(cands), len(s))))
-        diff = (now - then - 2 * np.pi) ** 2
-        count = valid.sum(axis=2)
-        cost = np.where(valid, diff, 0.0).sum(axis=2) / np.maximum(count, 1)
-        end_then = _interp_complex(p, np.broadcast_to(n - cands, (m, len(cands))))
-        gap = np.abs(p[:, -1:] - end_then) / cands
-        cost = cost + gap**2
-        turned = h[:, -1:] - _interp(h, np.broadcast_to(n - 1.0 - cands, (m, len(cands))))
-        # a lap overlaps itself by a link or more and its ends meet again
-        ok = (count >= 2) & (np.abs(turned - 2 * np.pi) < _TURN_TOL) & (gap < _GAP_TOL)
-        # count is in half links: a short overlap must close in links, not only relative to P
-        ok &= (count >= 2 * _SHORT_OVERLAP * n) | (gap * cands < _SHORT_GAP)
-        ok &= cands[None, :] <= n - a[:, None]
-        cost = np.where(ok, cost, np.inf)
+        step = max(1, _WORK_VALUES // (m * len(s)))
+        cost = np.concatenate(
+            [_lap_costs(h, p, a, now, cands[c : c + step], s) for c in range(0, len(cands), step)],
+            axis=1,
+        )
         best = np.argmin(cost, axis=1)
         found = np.isfinite(cost[np.arange(m), best])
         out[lo : lo + chunk] = np.where(found, cands[best], np.nan)
     return out
+
+
+def _lap_costs(
+    h: FloatArray, p: np.ndarray, a: FloatArray, now: FloatArray, cands: FloatArray, s: np.ndarray
+) -> FloatArray:
+    """:func:`_periods`'s cost of each lap length ``cands`` for rows ``h`` (inf: refused).
+
+    ``p`` the rows' complex joints, ``a`` their surface starts, ``now`` the
+    headings at the arc positions ``s``. Shape (rows, candidates).
+    """
+    m, n = h.shape
+    earlier = s[None, None, :] - cands[None, :, None]  # (1, c, s)
+    valid = earlier >= a[:, None, None]  # (m, c, s)
+    then = _interp(h, np.broadcast_to(earlier - 0.5, (m, len(cands), len(s))))
+    diff = (now - then - 2 * np.pi) ** 2
+    count = valid.sum(axis=2)
+    cost = np.where(valid, diff, 0.0).sum(axis=2) / np.maximum(count, 1)
+    end_then = _interp_complex(p, np.broadcast_to(n - cands, (m, len(cands))))
+    gap = np.abs(p[:, -1:] - end_then) / cands
+    cost = cost + gap**2
+    turned = h[:, -1:] - _interp(h, np.broadcast_to(n - 1.0 - cands, (m, len(cands))))
+    # a lap overlaps itself by a link or more and its ends meet again
+    ok = (count >= 2) & (np.abs(turned - 2 * np.pi) < _TURN_TOL) & (gap < _GAP_TOL)
+    # count is in half links: a short overlap must close in links, not only relative to P
+    ok &= (count >= 2 * _SHORT_OVERLAP * n) | (gap * cands < _SHORT_GAP)
+    ok &= cands[None, :] <= n - a[:, None]
+    return np.where(ok, cost, np.inf)
 
 
 def _interp_complex(z: np.ndarray, x: FloatArray) -> np.ndarray:
