@@ -176,7 +176,13 @@ def test_pbm_header_too_large_for_memory_is_one_line_error():
     header = b"P4\n99999999999 99999999999\n"  # was a MemoryError traceback
     result = CliRunner().invoke(cli, ["scan", "-"], input=header)
     assert result.exit_code == 1
-    assert "out of memory" in result.stderr
+    assert "PBM file 99,999,999,999 pixels wide: rows of at most" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+    # a width that fits, but rows the header only claims: read in steps, found missing
+    # (this was "out of memory" after asking for 256 rows of 125 MB at once)
+    result = CliRunner().invoke(cli, ["scan", "-"], input=b"P4\n1000000000 1000\n")
+    assert result.exit_code == 1
+    assert "truncated PBM file: 1000 rows in the header, only 0 found" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
 
 

@@ -70,6 +70,9 @@ def test_formats_roundtrip(data, kwargs, tmp_path):
         (_p1()[:-30], {}, "truncated PBM"),
         (b"P4\nx 3\n", {}, "bad size"),
         (b"P4\n", {}, "incomplete header"),
+        # a header's size was read in one go: out of memory for 1e8 x 1e8 (1.25 GB a row)
+        (b"P4\n100000000 100000000\n", {}, "100000000 rows in the header, only 0 found"),
+        (b"P4\n3000000000 2\n", {}, "3,000,000,000 pixels wide: rows of at most 2,147,483,647"),
         (_pbm(), {"width": 5}, "11 pixels wide"),
         (_png(IMG)[:40], {}, "PNG"),
         (b"\x00\x01\x02", {"width": 3}, "byte value 2"),

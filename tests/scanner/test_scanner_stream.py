@@ -179,6 +179,11 @@ def test_empty_and_truncated_streams():
         scanner.close()
     with pytest.raises(InputError, match="width"):
         LineScanner(0)
+    # buffers of 22 numbers a pixel: 1e8 pixels a row was a MemoryError (or an OOM kill)
+    with pytest.raises(
+        InputError, match=r"buffers for rows of 100,000,000 pixels would hold 2,100,000,042 values"
+    ):
+        LineScanner(10**8)
 
 
 def test_scan_iterator_helper():

@@ -43,6 +43,8 @@ FORMATS: tuple[str, ...] = ("text", "pbm", "png", "tiff", "raw")
 
 _PNG_MAGIC = b"\x89PNG"
 _TIFF_MAGIC = (b"II*\x00", b"MM\x00*")
+#: Most bytes read from a file at a time: what a header claims is not yet known to be there.
+_MAX_READ = 2**26
 RAW_DTYPES: tuple[str, ...] = ("uint8", "uint16", "float32", "float64")
 """Pixel types of raw grey-level streams."""
 
@@ -150,11 +152,15 @@ def _pbm_rows(fh: IO[bytes], width: int | None, chunk_rows: int) -> Iterator[np.
         raise InputError(f"not a valid PBM file: bad size {tokens[1]!r} x {tokens[2]!r}") from None
     if w <= 0 or h < 0:
         raise InputError(f"not a valid PBM file: size {w} x {h}")
+    if w > MAX_AXIS:
+        raise InputError(f"PBM file {w:,} pixels wide: rows of at most {MAX_AXIS:,} are read")
     if width is not None and width != w:
         raise InputError(f"the PBM file is {w} pixels wide, but --width {width} was given")
     if magic == b"P4":
         rest = io.BufferedReader(_Peeked(head[pos + 1 :], fh))  # one whitespace byte ends it
         row_bytes = (w + 7) // 8
+        # a header's size is a claim: read at most _MAX_READ bytes at a time towards it
+        chunk_rows = max(1, min(chunk_rows, _MAX_READ // row_bytes))
         done = 0
         while done < h:
             n = min(chunk_rows, h - done)

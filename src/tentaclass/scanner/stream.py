@@ -82,7 +82,8 @@ class LineScanner:
     Parameters
     ----------
     width : int
-        Pixels per row.
+        Pixels per row, at most about 47 million (the scanner's buffers hold
+        about 22 numbers per pixel of a row).
     model : ScannerModel, optional
         Classifier; default :func:`~tentaclass.scanner.default_model`.
     max_height : int, default=1024
@@ -183,6 +184,10 @@ class LineScanner:
         settings: DefectSettings | None = None,
     ):
         self.width = check_positive_int(width, "width", maximum=MAX_AXIS)
+        # the kernel's pools (below) hold about 22 int64 per pixel of a row
+        per_row = self.width // 2 + 1
+        pools = max(256, 2 * per_row) * seg.N_LAB_FIELDS + max(4096, 4 * per_row) * 4
+        check_total(pools + 6 * per_row, f"the scanner's buffers for rows of {self.width:,} pixels")
         self.max_height = check_positive_int(max_height, "max_height")
         self.model, self.settings, self.size_tolerance = _check_options(
             model, settings, size_tolerance
@@ -216,7 +221,6 @@ class LineScanner:
         # room for the runs of two full rows in labels and four in runs: the kernel
         # needs a row's worth free before each row, and would otherwise stop to
         # grow the pools several times at the start of a wide belt
-        per_row = self.width // 2 + 1
         self._pools = seg.new_pools(self.width, max(256, 2 * per_row), max(4096, 4 * per_row))
         self._bg = np.zeros(self.width, dtype=np.float64)
         self._rule: tuple = (0, False, 0.5, 0.5, 0.0)  # kernel arguments of threshold_
