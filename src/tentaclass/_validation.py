@@ -186,6 +186,27 @@ def as_points_array(points: ArrayLike, name: str = "points", *, min_points: int 
 #: Largest joint-noise sigma, radians: a sigma above a turn leaves nothing of the angles.
 MAX_NOISE = 2 * np.pi
 
+
+def check_noise(value: object, name: str = "noise", shown: object = None) -> float:
+    """A joint-noise sigma in radians: a finite number in ``[0, MAX_NOISE]`` (2*pi).
+
+    ``shown`` is what the message quotes (default ``value``).
+
+    >>> check_noise(1e300)
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: noise must be at most 2*pi radians (a sigma above a turn \
+leaves nothing of the angles), got 1e+300
+    """
+    sigma = check_positive_float(value, name, allow_zero=True)
+    if sigma > MAX_NOISE:
+        raise InputError(
+            f"{name} must be at most 2*pi radians (a sigma above a turn leaves nothing of the "
+            f"angles), got {value if shown is None else shown!r}"
+        )
+    return sigma
+
+
 #: Largest count the compiled kernels take (a signed 64-bit integer).
 MAX_INT64 = 2**63 - 1
 

@@ -45,6 +45,7 @@ def one_line(r):
             "1e+300 is not in the range 0<=x<=6.28",
         ),
         (["demo", "--noise", "1e300"], "tentaclass demo", "1e+300 is not in the range 0<=x<=6.28"),
+        (["wrap", "--noise", "1e300"], "tentaclass wrap", "1e+300 is not in the range 0<=x<=6.28"),
         (
             ["wrap", "--plot", "no/such/dir/w.png"],
             "tentaclass wrap",

@@ -296,6 +296,8 @@ def test_every_link_is_placed_where_the_support_offers_none():
         ({"direction": "up"}, "direction"),
         ({"mode": "loose"}, "mode"),
         ({"noise": -1.0}, "noise"),
+        # the angles came back beyond 2**20 turns, refused later as "q holds an angle of"
+        ({"noise": 1e300}, r"noise must be at most 2\*pi radians .*, got 1e\+300"),
         ({"offset": -1.0}, "offset"),
         ({"offset": -1.0}, "must be >= 0"),  # was "must lie in >= 0"
         ({"noise": 0.1, "random_state": "x"}, "random_state"),  # was TypeError

@@ -15,6 +15,7 @@ from .options import (
     finite,
     image_outline,
     json_option,
+    noise_option,
     note,
     object_options,
     placement_options,
@@ -90,8 +91,7 @@ def _outline(
 @click.option("--mode", type=click.Choice(["taut", "hug"]), default="taut", show_default=True)
 @click.option("--thickness", type=click.FloatRange(min=0), default=0.0, show_default=True,
               callback=finite)  # fmt: skip
-@click.option("--noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
-              callback=finite, help="Joint noise standard deviation (radians).")  # fmt: skip
+@noise_option(0.0, "Joint noise standard deviation (radians, at most 2*pi).")
 @random_state_option("Seed of the noise [default: fresh].", default=None)
 @click.option("--plot", "plot", type=OutputFile(figure=True),
               help="Save a figure of the wrap (PNG, PDF, SVG).")  # fmt: skip

@@ -24,11 +24,11 @@ from .._deprecation import UNSET, renamed
 from .._typing import ArrayLike
 from .._validation import (
     MAX_LINKS,
-    MAX_NOISE,
     MAX_SAMPLES,
     MIN_LINK_FRACTION,
     check_choice,
     check_laps,
+    check_noise,
     check_positive_float,
     check_positive_int,
     check_total,
@@ -46,10 +46,7 @@ def _noise_range(noise: float | tuple[float, float]) -> tuple[float, float]:
     hi = check_positive_float(hi, "noise", allow_zero=True)
     if hi < lo:
         raise InputError(f"noise range must be (low, high) with low <= high, got {noise!r}")
-    if hi > MAX_NOISE:
-        raise InputError(f"noise must be at most 2*pi radians (a sigma above a turn leaves "
-                         f"nothing of the angles), got {noise!r}")  # fmt: skip
-    return lo, hi
+    return lo, check_noise(hi, shown=noise)
 
 
 def _range(value: tuple[float, float], name: str, *, allow_zero: bool) -> tuple[float, float]:

@@ -14,6 +14,7 @@ from .._typing import ArrayLike, FloatArray
 from .._validation import (
     MAX_LINKS,
     check_links_fit,
+    check_noise,
     check_one_value,
     check_positive_float,
     check_positive_int,
@@ -221,7 +222,7 @@ def wrap_many(
         raise InputError(f"n_links must be at most {MAX_LINKS:,}, got {n:,}")
     direction = _choice(direction, "direction", _DIRECTIONS)
     mode = _choice(mode, "mode", _MODES)
-    noise = check_positive_float(noise, "noise", allow_zero=True)
+    noise = check_noise(noise)
     thickness = check_positive_float(thickness, "thickness", allow_zero=True)
     if _dask.wants_blocks(outlines, link_length, starts, offset):  # lazy, chunk by chunk
         kw = {"direction": direction, "mode": mode, "noise": noise, "thickness": thickness}
