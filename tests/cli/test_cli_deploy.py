@@ -318,6 +318,9 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
     one_line_error(run(*base), "--links")
     one_line_error(run("train", "--out", out), "either --data or --outlines")
     one_line_error(run(*base, "--links", 16, "--laps", "2,1"), "MIN <= MAX")
+    # both read "expected MIN,MAX with MIN <= MAX", which they were
+    one_line_error(run(*base, "--links", 16, "--laps", "nan,inf"), "MIN and MAX must be finite")
+    one_line_error(run(*base, "--links", 16, "--noise", "-1"), "--noise: MAX must be >= 0")
     one_line_error(run(*base, "--links", 16, "--laps", "1,2", "--diameters", "3,4"), "not both")
     one_line_error(
         run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out), "matches no file"

@@ -237,9 +237,15 @@ def _pair(
         values = [float(t) for t in text.replace(",", " ").split()]
     except ValueError:
         raise ValueError(f"{name}: {text!r} is not a number or MIN,MAX") from None
+    if len(values) not in (1, 2):
+        raise ValueError(f"{name}: expected MIN,MAX (one or two numbers), got {text!r}")
+    if not all(np.isfinite(values)):
+        raise ValueError(f"{name}: MIN and MAX must be finite numbers, got {text!r}")
     if len(values) == 1:
+        if one_is_max and values[0] < 0:
+            raise ValueError(f"{name}: MAX must be >= 0, got {text!r}")
         values = [0.0, values[0]] if one_is_max else values * 2
-    if len(values) != 2 or not all(np.isfinite(values)) or values[0] > values[1]:
+    if values[0] > values[1]:
         raise ValueError(f"{name}: expected MIN,MAX with MIN <= MAX, got {text!r}")
     return values[0], values[1]
 
