@@ -63,6 +63,8 @@ def test_json_and_mask(tmp_path):
         (["--thickness", "1e300"], "thickness 1e+300 is larger than the object (diameter 5.6"),
         (["--links", "1000000"], "MuJoCo builds chains of at most 496 links"),
         (["--links", "4", "--link-length", "1e-300"], "link_length 1e-300 is too short for an"),
+        # the library flags the diverged simulation; the command said "q contains 16 NaN"
+        (["--friction", "1e300"], "the grasp failed: the simulation diverged at joint 0"),
     ],
 )
 def test_errors_are_one_line(args, message):

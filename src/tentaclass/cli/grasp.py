@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from ..errors import TentaclassError
+from ..errors import InputError, TentaclassError
 from .options import OutputFile, finite, json_option, note, object_options, placement_options
 from .wrap import _outline
 
@@ -92,6 +92,8 @@ def grasp(shape: str | None, size: str | None, vertices: str | None, mask: Path 
             outline, PlanarChain([link_length] * links), start=start, direction=direction,
             offset=offset, thickness=thickness, friction=friction, frames=2 if gif else 0,
         )  # fmt: skip
+        if not np.all(np.isfinite(g.angles)):  # the library flags it: say why, not "NaN"
+            raise InputError(f"the grasp failed: {g.reason}")
         state = grasp_state(g.angles)
         if plot is not None or gif is not None:
             _save_figures(g, outline, plot, gif)
