@@ -105,6 +105,26 @@ def test_compiled_exp_is_within_one_ulp_and_clamped_to_normal_numbers(rng, dtype
     assert out[0] >= np.finfo(dtype).tiny
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_compiled_row_maximum_is_numpys(rng, dtype):
+    # a SIMD reduction: rows of every length modulo the vector width and its
+    # unrolling, the maximum anywhere in the row, infinities and signed zeros
+    from tentaclass.classifiers._pnn_kernel import _row_max
+
+    for n in [*range(1, 40), 1000, 1003]:
+        row = rng.uniform(-700, -600, n).astype(dtype)
+        for where in {0, n // 2, n - 1}:
+            r = row.copy()
+            r[where] = -500.0
+            assert _row_max(r) == np.float64(r.max()) == -500.0
+    assert _row_max(np.full(9, -np.inf, dtype=dtype)) == -np.inf
+    row = np.full(13, -np.inf, dtype=dtype)
+    row[7] = np.inf
+    assert _row_max(row) == np.inf
+    assert _row_max(np.array([-0.0, -3.0, 0.0, -1.0], dtype=dtype)) == 0.0
+    assert isinstance(_row_max(np.ones(3, dtype=dtype)), float)
+
+
 @pytest.mark.parametrize("centre_scale", [3.0, 0.4])
 @pytest.mark.parametrize("tile_cols", [4096, 100])
 def test_float32_agrees_with_float64_on_clustered_data(monkeypatch, centre_scale, tile_cols):
