@@ -109,7 +109,9 @@ def _group(item):
     """The group a test runs in under ``--dist loadgroup``, or None to run anywhere.
 
     The scanner's tests form one group: its numba kernels take about 25 s of
-    CPU to compile on a fresh clone, once per worker that runs any of them.
+    CPU to compile on a fresh clone, once per worker that runs any of them
+    (a test elsewhere that runs the scanner is marked ``scanner``: its own
+    group joins this one, see ``pytest_collection_modifyitems``).
     So do the tests marked ``mpeg7``: each process decodes the 1400
     silhouettes once (about 8 s of CPU) and reads them from its cache after.
     """
@@ -128,7 +130,8 @@ def pytest_collection_modifyitems(config, items):
     The tests of a module or package whose fixtures are set up once for all
     of them (a Dask cluster, a browser and a server, fitted models, generated
     MPEG-7 wraps) form one group that ``--dist loadgroup`` runs on one worker;
-    so do the tests of the scanner (see ``_group``).
+    so do the tests of the scanner (see ``_group``), with the groups of the
+    tests marked ``scanner`` elsewhere.
     Workers take the next test as they become free, so the slow tests and the
     groups are handed out first rather than last on one worker while the
     other has nothing left to do. Every test still runs; only the order and
@@ -140,6 +143,13 @@ def pytest_collection_modifyitems(config, items):
     items.sort(  # stable
         key=lambda item: (item.get_closest_marker("slow") is None, groups[item.nodeid] is None)
     )
+    # a group holding a test that runs the scanner joins the scanner's group: the
+    # scanner's kernels are compiled by one worker only
+    marked = {item.nodeid for item in items if item.get_closest_marker("scanner")}
+    joined = {groups[nodeid] for nodeid in marked} - {None}
+    for nodeid, group in groups.items():
+        if group in joined or nodeid in marked:
+            groups[nodeid] = "scanner"
     if config.getvalue("loadgroup"):  # what xdist sets in a worker for --dist loadgroup
         for item in items:
             if groups[item.nodeid]:

@@ -326,6 +326,7 @@ def test_train_and_classify_files(client, data, tmp_path):
     assert table["label"].tolist() == tc.load_model(model).predict(Xn[100:200]).tolist()
 
 
+@pytest.mark.scanner  # its kernels compile on the scanner tests' worker
 def test_scan_files(client, tmp_path):
     from tentaclass.scanner.io import write_pbm
     from tentaclass.scanner.simulate import make_belt
