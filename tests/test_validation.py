@@ -1,5 +1,7 @@
 """The input checks every public entry point shares (tentaclass._validation)."""
 
+import re
+
 import numpy as np
 import pytest
 from sklearn.pipeline import make_pipeline
@@ -143,3 +145,46 @@ def test_huge_counts_are_refused_naming_the_limit(index):
     call, message = _huge_count_calls()[index]
     with pytest.raises(InputError, match=message):
         call()
+
+
+@pytest.mark.parametrize(
+    "x, message",
+    [
+        # NumPy reads each of these as numbers: True as 1 rad, "1" as 1.0, a date as its
+        # seconds, and a masked value as what lies under the mask
+        (SQUARE > 0, "q must hold numbers, got booleans (dtype bool)"),
+        ([True] * 16, "q must hold numbers, got booleans (dtype bool)"),
+        (SQUARE.astype(str), "q must hold numbers, got dtype <U"),
+        (np.ones(16, "datetime64[s]"), "q must hold numbers, got dtype datetime64[s]"),
+        (np.array([*SQUARE[:15], "1"], dtype=object), "q must hold numbers, got str '1'"),
+        (np.array([*SQUARE[:15], True], dtype=object), "q must hold numbers, got bool True"),
+        (np.ma.masked_array(SQUARE, mask=SQUARE > 1), "q holds 4 masked value(s): fill or drop"),
+    ],
+)
+def test_angle_arrays_of_what_is_not_numbers_are_refused(x, message):
+    from tentaclass import fourier_features, split_laps, turning_function
+
+    for func in (turning_function, fourier_features, split_laps):
+        with pytest.raises(InputError, match=re.escape(message)):
+            func(x)
+
+
+def test_arrays_of_numbers_of_any_kind_are_taken():
+    from tentaclass import turning_function
+
+    expected = turning_function(SQUARE)
+    for x in (SQUARE.astype(object), np.ma.masked_array(SQUARE), SQUARE.tolist()):
+        np.testing.assert_array_equal(turning_function(x), expected)
+    np.testing.assert_array_equal(turning_function(np.zeros(16, np.int8)), np.zeros(16))
+
+
+@pytest.mark.parametrize(
+    "make", [PNNClassifier, RBFNetworkClassifier, ShiftNNClassifier, TentacleClassifier]
+)
+def test_labels_of_kinds_that_do_not_sort_together_are_named(thesis, make):
+    # numpy's sort raised TypeError: '<' not supported between instances of 'int' and 'str'
+    X, _ = thesis
+    y = np.array(["a", 1] * (len(X) // 2), dtype=object)
+    with pytest.raises(InputError, match=r"y mixes labels of kinds that cannot be sorted together "
+                       r"\(int, str\): give labels of one kind"):  # fmt: skip
+        make().fit(X[: len(y)], y)

@@ -22,11 +22,27 @@ from .errors import InputError, ShapeError, TentaclassWarning
 def as_float_array(
     x: ArrayLike, name: str, *, min_ndim: int = 0, allow_nonfinite: bool = False
 ) -> FloatArray:
-    """Convert ``x`` to a float64 array and check its rank and values."""
+    """Convert ``x`` to a float64 array and check its rank and values.
+
+    Numbers only: booleans, text, dates and masked values are refused, although
+    NumPy would convert them (``True`` to 1.0, ``"2"`` to 2.0, a date to its
+    seconds, a masked value to whatever lies under the mask).
+
+    >>> as_float_array(np.array([0.0, 1.0]) > 0, "q")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: q must hold numbers, got booleans (dtype bool)
+    """
     try:
         if np.iscomplexobj(x):
             raise InputError(f"{name} must hold real numbers, got complex values")
-        arr = np.asarray(x, dtype=np.float64)
+        if isinstance(x, np.ma.MaskedArray) and np.ma.is_masked(x):
+            raise InputError(
+                f"{name} holds {int(np.ma.count_masked(x))} masked value(s): fill or drop them"
+            )
+        arr = np.asarray(x)
+        _check_number_kind(arr, name)
+        arr = np.asarray(arr, dtype=np.float64)
     except InputError:
         raise
     except (TypeError, ValueError) as exc:
@@ -44,6 +60,20 @@ def as_float_array(
         bad = int(np.count_nonzero(~np.isfinite(arr)))
         raise InputError(f"{name} contains {bad} NaN or infinite value(s)")
     return arr
+
+
+def _check_number_kind(arr: np.ndarray, name: str) -> None:
+    """Refuse an array whose values are not numbers: bool, text, dates, raw bytes."""
+    kind = arr.dtype.kind
+    if kind in "iuf":
+        return
+    if kind == "b":
+        raise InputError(f"{name} must hold numbers, got booleans (dtype bool)")
+    if kind != "O":
+        raise InputError(f"{name} must hold numbers, got dtype {arr.dtype}")
+    for value in arr.flat:  # Python objects: what float() would read but is no number
+        if isinstance(value, bool | np.bool_ | str | bytes):
+            raise InputError(f"{name} must hold numbers, got {type(value).__name__} {value!r:.40}")
 
 
 def as_angle_array(
@@ -580,6 +610,12 @@ def check_targets(y: ArrayLike) -> None:
         check_classification_targets(y)
     except ValueError as exc:
         raise _input_error(exc) from None
+    except TypeError:  # labels of kinds that do not sort together (str and int, None)
+        kinds = sorted({type(v).__name__ for v in np.asarray(y, dtype=object).ravel()})
+        raise InputError(
+            f"y mixes labels of kinds that cannot be sorted together ({', '.join(kinds)}): "
+            "give labels of one kind, all strings or all integers"
+        ) from None
 
 
 def class_indices(y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:

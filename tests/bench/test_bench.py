@@ -99,12 +99,17 @@ def test_bench_cli_passes_jobs_to_the_generator(tmp_path, monkeypatch):
         raise InputError("stop here")
 
     monkeypatch.setattr(tentaclass.datasets, "mpeg7_tentacle", fake)
-    r = CliRunner().invoke(cli, ["bench", "--dataset", "mpeg7", "--jobs", "2", "--methods",
-                                 "thesis", "--out", str(tmp_path / "out")])  # fmt: skip
+    r = CliRunner().invoke(cli, ["bench", "--dataset", "mpeg7", "--methods", "thesis",
+                                 "--out", str(tmp_path / "out")])  # fmt: skip
     assert r.exit_code == 1 and "stop here" in r.output
-    assert seen["n_jobs"] == 2
     assert seen["protocol"] == "fixed-chain" and seen["laps"] == (1.2, 2.0)
     assert seen["offset"] == (0.0, 2.0) and seen["progress"] is True
+    # the one-lap protocol's bisection runs in --jobs processes (the fixed chain has none)
+    r = CliRunner().invoke(cli, ["bench", "--dataset", "mpeg7", "--protocol", "one-lap",
+                                 "--jobs", "2", "--methods", "thesis",
+                                 "--out", str(tmp_path / "out")])  # fmt: skip
+    assert r.exit_code == 1 and "stop here" in r.output
+    assert seen["n_jobs"] == 2 and seen["protocol"] == "one-lap"
 
 
 def test_failed_wraps_count_as_errors_and_never_train():

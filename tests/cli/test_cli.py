@@ -85,7 +85,7 @@ def test_classify_any_chain_length():
     [
         (["classify", "0 0 x"], "not a number"),
         (["classify", "0 0"], "at least 3"),
-        (["classify"], "either ANGLES or --file"),
+        (["classify"], "give ANGLES or --file, or pipe angle arrays into stdin"),
         (["classify", "--file", "missing.csv"], "does not exist"),
         (["demo", "--noise", "nan", "--no-figures"], "finite"),
         (["demo", "--noise", "inf", "--no-figures"], "inf is not in the range 0<=x<=6.28"),

@@ -119,6 +119,11 @@ def one_line(r):
         (["grasp", "--gif", "g.png"], "tentaclass grasp", "'g.png': cannot write .png; use .gif"),
         # a number beyond float64 was read as inf, then refused as "NaN or infinite" (exit 1)
         (["classify", "1e400 0 0 pi/2"], "tentaclass classify", "'1e400' is too large: not a"),
+        # ... as was a product or quotient beyond float64 (1e308*pi: 'ANGLES contains 1 NaN or
+        # infinite value(s)', exit 1); pi/1e400 was read as 0
+        (["classify", "1e308*pi 0 0 pi"], "tentaclass classify", "'1e308*pi' is too large: not"),
+        (["classify", "1/1e-320 0 0 pi"], "tentaclass classify", "'1/1e-320' is too large: not"),
+        (["classify", "pi/1e400 0 0 pi"], "tentaclass classify", "'pi/1e400' is too large: not"),
         # options of one dataset given with another (they were ignored)
         (
             ["bench", "--name", "SwedishLeaf"],
@@ -134,6 +139,63 @@ def one_line(r):
             ["bench", "--dataset", "synthetic", "--data-dir", "mpeg7"],
             "tentaclass bench",
             "--data-dir: applies to --dataset mpeg7 only, not to --dataset synthetic",
+        ),
+        # a threshold that is no finite number was refused by the scanner once the first rows
+        # were read (exit code 1); --files without --out-dir after loading the model (exit 1)
+        (
+            ["scan", "-", "--threshold", "nan"],
+            "tentaclass scan",
+            "--threshold: must be a finite number or auto, binary, fixed or adaptive, got 'nan'",
+        ),
+        (["scan", "-", "--threshold", "1e400"], "tentaclass scan", "finite number or auto"),
+        (["scan", "--files", "*.pbm"], "tentaclass scan", "--files needs --out-dir, the folder"),
+        (["classify", "--files", "*.npy"], "tentaclass classify", "--files needs --out-dir"),
+        # a belt --simulate cannot make was an error of exit code 1
+        (
+            ["scan", "--simulate", "1", "--width", "3"],
+            "tentaclass scan",
+            "lanes of 3 pixels are too narrow for objects of circumradius up to 20.0",
+        ),
+        # an empty name was the current folder (or, for a file, failed once the work was done)
+        (["train", "--out", ""], "tentaclass train", "'--out': the file name is empty"),
+        (
+            ["classify", "--files", "*.npy", "--out-dir", ""],
+            "tentaclass classify",
+            "'--out-dir': the folder name is empty (give '.' for the current folder)",
+        ),
+        (["bench", "--out", ""], "tentaclass bench", "the folder name is empty"),
+        # options of one dataset or protocol given with another (they were ignored; the
+        # README's mpeg7 example read as if --jobs -1 wrapped the default protocol on every core)
+        (
+            ["bench", "--dataset", "ArrowHead", "--folds", "5"],
+            "tentaclass bench",
+            "--folds: applies to --dataset reference, synthetic, mpeg7 only, not to --dataset "
+            "ArrowHead",
+        ),
+        (
+            ["bench", "--copies", "3"],
+            "tentaclass bench",
+            "--copies: applies to --dataset mpeg7 only, not to --dataset reference",
+        ),
+        (
+            ["bench", "--dataset", "synthetic", "--samples", "40", "--protocol", "one-lap"],
+            "tentaclass bench",
+            "--protocol: applies to --dataset mpeg7 only, not to --dataset synthetic",
+        ),
+        (
+            ["bench", "--dataset", "mpeg7", "--jobs", "-1"],
+            "tentaclass bench",
+            "--jobs: applies to --protocol one-lap only, not to --protocol fixed-chain",
+        ),
+        (
+            ["bench", "--dataset", "mpeg7", "--protocol", "one-lap", "--laps", "1,2"],
+            "tentaclass bench",
+            "--laps: applies to --protocol fixed-chain only, not to --protocol one-lap",
+        ),
+        (
+            ["bench", "--mode", "hug"],
+            "tentaclass bench",
+            "--mode: applies to --dataset synthetic, mpeg7 only, not to --dataset reference",
         ),
     ],
 )
@@ -353,7 +415,7 @@ def test_train_outlines_refuses_sizes_beyond_reason(tmp_path, args, message):
     np.save(tmp_path / "ci-1.npy", circle(2.0))
     r = run("train", "--outlines", str(tmp_path / "*.npy"), "--links", "16",
             "--out", str(tmp_path / "m.tcm"), *args)  # fmt: skip
-    assert r.exit_code == 1
+    assert r.exit_code == 2  # usage errors, found before the outlines are read (was 1)
     assert message in one_line(r)
     assert not (tmp_path / "m.tcm").exists()
 
@@ -363,23 +425,26 @@ def test_train_refuses_a_spread_too_large_to_tell_classes_apart(tmp_path):
     np.savez(tmp_path / "d.npz", X=X, y=np.array(["sq"] * 4 + ["ci"] * 4))
     r = run("train", "--data", str(tmp_path / "d.npz"), "--spread", "1e300",
             "--out", str(tmp_path / "m.tcm"))  # fmt: skip
-    assert r.exit_code == 1
+    assert r.exit_code == 2  # a usage error, found before the data is read (was 1)
     assert "spread 1e+300 is too large: it must be at most 1e+150" in one_line(r)
 
 
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["--min-area", "10" * 11], "min_area must be at most 9,223,372,036,854,775,807, got 1,0"),
-        (["--max-height", "10" * 11], "max_height must be at most 9,223,372,036,854,775,807"),
-        (["--format", "raw", "--width", "10" * 11], "width must be at most 2,147,483,647"),
-        (["--chunk-rows", "10" * 11], "chunk_rows must be at most 2,147,483,647"),
+        (["--min-area", "10" * 11], "1010101010101010101010 is not in the range 1<=x<=92233"),
+        (["--max-height", "10" * 11], "'--max-height': 1010101010101010101010 is not in the"),
+        (["--format", "raw", "--width", "10" * 11], "not in the range 1<=x<=2147483647"),
+        (["--chunk-rows", "10" * 11], "'--chunk-rows': 1010101010101010101010 is not in the range"),
+        (["--simulate", "10" * 11], "not in the range 1<=x<=100000000"),
     ],
 )
 def test_scan_refuses_counts_too_large_for_the_kernels(tmp_path, args, message):
+    # usage errors, found as the options are read: the scanner refused them once the first
+    # rows were read (exit code 1)
     (tmp_path / "belt.pbm").write_text("P1\n3 2\n0 1 0\n1 1 1\n")
     r = run("scan", *args, str(tmp_path / "belt.pbm"))
-    assert r.exit_code == 1
+    assert r.exit_code == 2
     assert message in one_line(r)
 
 
@@ -498,6 +563,29 @@ def test_a_closed_standard_input_is_one_line(command, message):
     )  # fmt: skip
     assert r.returncode == 1
     assert r.stderr.strip() == message
+
+
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        # bytes that are not UTF-8 were read as lone surrogates: "'\udcff\udcfe' is not a number"
+        (b"\xff\xfe\x00\x01", "Error: standard input: not UTF-8 text (angle arrays, one per line)"),
+        # an empty pipe was told to pipe angle arrays into stdin
+        (b"", "Error: standard input holds no angle arrays: give ANGLES or --file, or pipe"),
+        (b"# a comment only\n\n", "Error: standard input holds no angle arrays"),
+    ],
+)
+def test_classify_names_standard_input_that_is_binary_or_empty(data, message):
+    import subprocess
+    import sys
+
+    r = subprocess.run(
+        [sys.executable, "-m", "tentaclass", "classify"], input=data, capture_output=True,
+        timeout=120,
+    )  # fmt: skip
+    assert r.returncode == 1
+    assert r.stderr.decode().strip().startswith(message)
+    assert len(r.stderr.decode().strip().splitlines()) == 1
 
 
 def test_angles_in_degrees_are_refused(tmp_path):

@@ -185,7 +185,7 @@ def test_json_from_stdin_and_unknown_label():
     [
         (["classify", "0 0 0"], None, "not a chain wrapped around an object"),
         (["classify", " ".join(["0"] * 16)], None, "turns 0 rad in total"),
-        (["classify"], "", "either ANGLES or --file"),
+        (["classify"], "", "standard input holds no angle arrays: give ANGLES or --file"),
         (["classify"], "0 0 x\n", "standard input, line 1"),
         (["classify"], "0 0 pi\n0 pi\n", "different numbers"),
     ],
@@ -310,22 +310,38 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
     labels.write_text("disc-1.png,round\n")
     out = tmp_path / "m.tcm"
     base = ["train", "--outlines", str(outline_files / "*.png"), "--out", out]
-    one_line_error(run(*base, "--links", 16, "--labels", labels), "no label for 1 outline")
-    one_line_error(
-        run("train", "--outlines", str(outline_files / "disc-*"), "--links", 16, "--out", out),
-        "only one class",
-    )
-    one_line_error(run(*base), "--links")
-    one_line_error(run("train", "--out", out), "either --data or --outlines")
-    one_line_error(run(*base, "--links", 16, "--laps", "2,1"), "MIN <= MAX")
-    # both read "expected MIN,MAX with MIN <= MAX", which they were
-    one_line_error(run(*base, "--links", 16, "--laps", "nan,inf"), "MIN and MAX must be finite")
-    one_line_error(run(*base, "--links", 16, "--noise", "-1"), "--noise: MAX must be >= 0")
-    one_line_error(run(*base, "--links", 16, "--laps", "1,2", "--diameters", "3,4"), "not both")
-    one_line_error(
-        run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out), "matches no file"
-    )
-    one_line_error(run(*base, "--links", 16, "--offset", "0,20"), "offset must stay below")
+    # input errors (what the files hold): exit code 1
+    for r, message in [
+        (run(*base, "--links", 16, "--labels", labels), "no label for 1 outline"),
+        (
+            run("train", "--outlines", str(outline_files / "disc-*"), "--links", 16, "--out", out),
+            "only one class",
+        ),
+        (
+            run(*base[:2], str(tmp_path / "none*.png"), "--links", 16, "--out", out),
+            "matches no file",
+        ),
+    ]:
+        one_line_error(r, message)
+        assert r.exit_code == 1, r.output
+    # usage errors (the options, found before any file is read): exit code 2
+    for r, message in [
+        (run(*base), "--outlines needs --links"),
+        (run("train", "--out", out), "give either --data or --outlines"),
+        (run(*base, "--links", 16, "--laps", "2,1"), "--laps: expected MIN,MAX with MIN <= MAX"),
+        # both read "expected MIN,MAX with MIN <= MAX", which they were
+        (run(*base, "--links", 16, "--laps", "nan,inf"), "--laps: MIN and MAX must be finite"),
+        (run(*base, "--links", 16, "--noise", "-1"), "--noise: MAX must be >= 0"),
+        (run(*base, "--links", 16, "--laps", "1,2", "--diameters", "3,4"), "not both"),
+        # ranges the chain cannot wrap were found after every outline was read (exit code 1)
+        (run(*base, "--links", 16, "--offset", "0,20"), "offset must stay below"),
+        (run(*base, "--links", 16, "--laps", "1,9"), "16 links cannot close 9 laps"),
+        (run(*base, "--links", 16, "--diameters", "0.5,2"), "diameters must be at least 1 link"),
+        (run(*base, "--links", 16, "--noise", "7"), "noise must be at most 2*pi radians"),
+        (run(*base, "--links", 16, "--offset", "-1,0"), "offset must be a finite number >= 0"),
+    ]:
+        one_line_error(r, message)
+        assert r.exit_code == 2, r.output
     bad = outline_files / "bad-1.csv"
     bad.write_text("0,0\n1,x\n")
     one_line_error(
@@ -387,3 +403,27 @@ def test_outline_images_two_objects_colour_and_blank(tmp_path, capsys):
     Image.fromarray(np.full((20, 20), 255, np.uint8)).save(tmp_path / "blank.png")
     with pytest.raises(ValueError, match=r"blank\.png: no object found"):
         image_outline(tmp_path / "blank.png")
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("0,0\n1,0\n2,0\n3,0\n", "has zero area: its points are collinear"),
+        ("0,0\n0,0\n0,0\n", "has fewer than 3 distinct points: all its points coincide"),
+        ("0,0\n4,0\n0,4\n4,4\n", "intersects itself"),  # a bow tie
+        ("0,0\n4,0\n4,4\n2,0\n0,4\n", "intersects itself"),  # touches itself at (2, 0)
+        ("0,0\n4,0\n", "must hold at least 3 points, got 2"),
+        ("0,0\n1e300,0\n0,1e300\n", "spans 1e+300: too large or too small to compute with"),
+        (np.array([[0, 0], [1, 0], [0, 1]], bool), "must hold numbers, got booleans"),
+    ],
+)
+def test_degenerate_outline_files_are_named_once(tmp_path, text, message):
+    from tentaclass.cli.train import read_outline
+
+    path = tmp_path / ("plate-1.npy" if isinstance(text, np.ndarray) else "plate-1.csv")
+    np.save(path, text) if isinstance(text, np.ndarray) else path.write_text(text)
+    with pytest.raises(ValueError) as caught:
+        read_outline(path)
+    # the file was named twice: "plate-1.csv: plate-1.csv intersects itself"
+    assert str(caught.value).startswith(f"{path} ") or str(caught.value).startswith(f"{path}: ")
+    assert str(caught.value).count(str(path)) == 1 and message in str(caught.value)

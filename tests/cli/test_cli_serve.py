@@ -31,18 +31,23 @@ def one_line_error(result):
 
 
 @pytest.mark.parametrize(
-    "host, message",
+    "host, message, code",
     [
-        ("999.1.1.1", "--host '999.1.1.1' is not an IPv4 address"),
-        ("300", "--host '300' is not an IPv4 address"),  # not 0.0.1.44
-        ("", "--host is empty"),
-        ("[]", "--host is empty"),
-        ("no.such.host.invalid", "--host 'no.such.host.invalid': no such host"),
+        # a malformed address is a usage error, as --port 70000 is (both were exit code 1)
+        ("999.1.1.1", "--host '999.1.1.1' is not an IPv4 address", 2),
+        ("300", "--host '300' is not an IPv4 address", 2),  # not 0.0.1.44
+        ("", "--host is empty", 2),
+        ("[]", "--host is empty", 2),
+        ("no.such.host.invalid", "--host 'no.such.host.invalid': no such host", 1),
     ],
 )
-def test_serve_bad_host_is_one_line(host, message):
+def test_serve_bad_host_is_one_line(host, message, code):
     result = CliRunner().invoke(cli, ["serve", "--host", host, "--port", "0"])
-    assert message in one_line_error(result)
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert result.exit_code == code, result.output
+    assert len(lines) == 1 and lines[0].startswith("Error: "), result.output
+    assert message in lines[0]
+    assert lines[0].endswith("serve -h')") == (code == 2)  # usage errors name the help
 
 
 def test_serve_on_a_port_in_use_is_one_line():

@@ -167,6 +167,9 @@ def test_truncated_model_file(tmp_path, npz):
         (None, "short.npz", "at least 3"),
         (None, "len.npz", "but 3 labels"),
         (None, "nan.npz", "NaN"),
+        # a complex y was "Complex data not supported"; an empty label trained a class ''
+        (None, "cplx.npz", "cplx.npz: y must hold labels (strings or integers), got complex128"),
+        (None, "emptylabel.npz", "emptylabel.npz: label 2 is empty"),
         ("0,0,pi,a\n0,0,pi,pi,b\n", "ragged.csv", "different numbers"),
         ("0,0,pi,a\n0,x,pi,b\n", "bad.csv", "line 2"),
         ("# only comments\n", "empty.csv", "no labelled angle arrays"),
@@ -190,6 +193,10 @@ def test_bad_training_files(tmp_path, content, name, message):
         np.savez(path, X=X[:, :2], y=np.array(["a", "b"] * 2))
     elif name == "len.npz":
         np.savez(path, X=X, y=np.array(["a", "b", "a"]))
+    elif name == "cplx.npz":
+        np.savez(path, X=X, y=np.arange(4) + 1j)
+    elif name == "emptylabel.npz":
+        np.savez(path, X=X, y=np.array(["a", "b", "", "b"]))
     elif name == "nan.npz":
         X[0, 0] = np.nan
         np.savez(path, X=X, y=np.array(["a", "b"] * 2))
@@ -225,12 +232,94 @@ def test_too_many_coefficients_is_one_line_error(tmp_path, npz):
 def test_train_requires_data_and_out(tmp_path):
     r = run("train", "--out", tmp_path / "m.tcm")
     one_line_error(r, "give either --data or --outlines")
+    assert r.exit_code == 2  # a usage error, as the other commands' (was 1)
+
+
+def test_train_n_coeffs_with_n_harmonics_is_a_usage_error(tmp_path, npz):
+    r = run("train", "--data", npz, "--out", tmp_path / "m.tcm", "--n-coeffs", 3,
+            "--n-harmonics", 3)  # fmt: skip
+    # (the line before it says that --n-coeffs is deprecated)
+    assert r.exit_code == 2 and "Traceback" not in r.output
+    assert "give --n-harmonics only, not --n-coeffs as well" in r.stderr.splitlines()[-1]
 
 
 @pytest.mark.parametrize("classifier", ["pnn", "rbf"])
-def test_tiny_spread_is_one_line_error(tmp_path, npz, classifier):
-    # (b / spread) ** 2 raised OverflowError with a traceback
+@pytest.mark.parametrize(
+    "spread, message",
+    [
+        # (b / spread) ** 2 raised OverflowError with a traceback
+        ("1e-300", "spread 1e-300 is too small: it must be at least 1e-150"),
+        # refused by the classifier once the data was read (exit code 1)
+        ("1e300", "spread 1e+300 is too large: it must be at most 1e+150"),
+    ],
+)
+def test_a_spread_beyond_the_classifiers_range_is_a_usage_error(
+    tmp_path, npz, classifier, spread, message
+):
     r = run("train", "--data", npz, "--out", tmp_path / "m.tcm", "--classifier", classifier,
-            "--spread", "1e-300")  # fmt: skip
-    one_line_error(r, "too small")
+            "--spread", spread)  # fmt: skip
+    one_line_error(r, message)
+    assert r.exit_code == 2
     assert not (tmp_path / "m.tcm").exists()
+
+
+def _edit_info(src, dst, **changes):
+    """A copy of the model file ``src`` whose metadata's info has ``changes`` (None: removed)."""
+    with zipfile.ZipFile(src) as zf:
+        members = {name: zf.read(name) for name in zf.namelist()}
+    meta = json.loads(members["metadata.json"])
+    for key, value in changes.items():
+        where, _, field = key.rpartition("__")
+        target = meta["info"][where] if where else meta["info"]
+        if value is None:
+            target.pop(field, None)
+        else:
+            target[field] = value
+    members["metadata.json"] = json.dumps(meta).encode()
+    with zipfile.ZipFile(dst, "w") as zf:
+        for name, data in members.items():
+            zf.writestr(name, data)
+    return dst
+
+
+@pytest.mark.parametrize(
+    "n_links, message",
+    [
+        # arrays of 24 angles were then refused by the classifier ("X has 24 features, but
+        # FourierClassifier is expecting 16"), arrays of 16 as "trained for a chain of 24 links"
+        (16, "info says a chain of 16 links, but the model takes arrays of 24 angles"),
+        (True, "info chain n_links must be an integer, got True"),  # "a chain of True links"
+        (0, "info chain n_links must be at least 1, got 0"),  # "a chain of 0 links"
+        ("sixteen", "info chain n_links must be an integer, got 'sixteen'"),  # ignored
+    ],
+)
+def test_a_model_file_whose_chain_length_was_edited_is_named(tmp_path, npz, n_links, message):
+    out = tmp_path / "m.tcm"
+    assert run("train", "--data", npz, "--out", out).exit_code == 0
+    edited = _edit_info(out, tmp_path / "e.tcm", chain__n_links=n_links)
+    for n in (16, 24):
+        r = run("classify", "--model", edited, " ".join(["pi/12"] * n))
+        one_line_error(r, f"e.tcm: {message}")
+        assert r.exit_code == 1
+
+
+@pytest.mark.parametrize(
+    "threshold, message",
+    [
+        (True, "info reject_below must be a number in [0, 1], got True"),  # rejected every array
+        (-5, "info reject_below must be a number in [0, 1], got -5"),  # rejected none
+        (1e300, "info reject_below must be a number in [0, 1], got 1e+300"),
+        ("0.5", "info reject_below must be a number in [0, 1], got '0.5'"),  # "no threshold"
+    ],
+)
+def test_a_model_file_whose_rejection_threshold_was_edited_is_named(
+    tmp_path, npz, threshold, message
+):
+    out = tmp_path / "m.tcm"
+    assert run("train", "--data", npz, "--out", out).exit_code == 0
+    edited = _edit_info(out, tmp_path / "e.tcm", reject_below=threshold)
+    r = run("classify", "--model", edited, "--reject", " ".join(["pi/12"] * 24))
+    one_line_error(r, f"e.tcm: {message}")
+    assert r.exit_code == 1
+    # without --reject the threshold is not read
+    assert run("classify", "--model", edited, " ".join(["pi/12"] * 24)).exit_code == 0

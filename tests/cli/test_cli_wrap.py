@@ -83,6 +83,6 @@ def test_laps_needing_too_many_links_is_one_line_error():
     from tentaclass.cli.main import cli
 
     r = CliRunner().invoke(cli, ["wrap", "--laps", "1e-9"])  # 1.6e10 links per lap
-    assert r.exit_code == 1
+    assert r.exit_code == 2  # a usage error, as --laps 9 is (was exit code 1)
     assert "laps 1e-09 is too small for 16 links: one lap would take 1.6e+10 links" in r.output
     assert "Traceback" not in r.output and len(r.output.strip().splitlines()) == 1

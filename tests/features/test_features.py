@@ -124,7 +124,7 @@ def test_periodic_signal_ramp_and_degrees():
         ({"q": np.zeros(8), "n_harmonics": 5}, "at most"),
         ({"q": np.zeros(8), "n_harmonics": 0}, "at least 1"),
         ({"q": np.zeros(8), "method": "dct"}, "method"),
-        ({"q": "abc"}, "array of numbers"),
+        ({"q": "abc"}, "must hold numbers, got dtype <U3"),
         # a string would read as true
         ({"q": np.zeros(8), "detrend": "no"}, "detrend must be True or False, got 'no'"),
         ({"q": np.zeros(8), "normalize": 2}, "normalize must be True or False"),

@@ -15,7 +15,7 @@ from tentaclass.manipulator import PlanarChain
         ({"link_lengths": [1.0, np.nan]}, "link_lengths contains 1 NaN"),
         ({"link_lengths": [[1.0, 1.0]]}, "link_lengths must be a number or a 1-D array"),
         ({"link_lengths": []}, "link_lengths is empty"),
-        ({"link_lengths": "long"}, "link_lengths must be an array of numbers"),
+        ({"link_lengths": "long"}, "link_lengths must hold numbers, got dtype <U4"),
         ({"link_lengths": 1.0}, "link_lengths must list one length per link"),
         ({"masses": [1.0, 0.0]}, "masses must all be > 0"),
         ({"masses": -1.0}, "masses must all be > 0"),

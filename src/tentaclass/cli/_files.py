@@ -224,7 +224,7 @@ def _write_objects(objects: list, out: Any, stats: Counter) -> None:
         stats[f"class:{obj.label}"] += 1
 
 
-def classify_files(pattern: str, out_dir: Path | None, client: Any,
+def classify_files(pattern: str, out_dir: Path, client: Any,
                    model: Any) -> list[tuple[Path, Path, int]]:  # fmt: skip
     """``classify --files``: every matching file -> ``out_dir/<stem>.labels.{parquet,csv}``.
 
@@ -236,8 +236,6 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any,
     length, from :func:`tentaclass.cli.classify.builtin_model`).
     Files without arrays give an empty table with the model's columns.
     """
-    if out_dir is None:
-        raise ValueError("--files needs --out-dir, the folder for the per-file results")
     import_extra("pyarrow", "dask", "classify --files writes with pyarrow", error=ValueError)
     inputs = expand(pattern, ANGLE_SUFFIXES)
     lengths = [chain_length(p) for p in inputs]
@@ -268,11 +266,9 @@ def classify_files(pattern: str, out_dir: Path | None, client: Any,
     return list(zip(inputs, outputs, counts, strict=True))
 
 
-def scan_files(pattern: str, out_dir: Path | None, client: Any, model: Any,
+def scan_files(pattern: str, out_dir: Path, client: Any, model: Any,
                settings: dict) -> list[dict]:  # fmt: skip
     """``scan --files``: every matching belt file -> ``out_dir/<stem>.jsonl``; the summaries."""
-    if out_dir is None:
-        raise ValueError("--files needs --out-dir, the folder for the per-belt results")
     inputs = expand(pattern)
     from .._dask import map_files
 
@@ -290,6 +286,8 @@ def scan_many(opts: dict) -> None:
         raise click.UsageError("--scheduler works with --files GLOB (not FILE or --simulate)")
     if opts["annotate"] is not None:
         raise click.UsageError("--annotate draws one belt; it does not go with --files")
+    if opts["out_dir"] is None:
+        raise click.UsageError("--files needs --out-dir, the folder for the per-belt results")
     from ..scanner import ScannerModel
 
     model = ScannerModel.load(opts["model_file"]) if opts["model_file"] is not None else None

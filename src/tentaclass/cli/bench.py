@@ -12,7 +12,9 @@ from ..bench import METHODS, confusion_figure, results_markdown, run_benchmark
 from ..errors import InputError
 from ..wrapping import MAX_LINKS
 from .options import (
+    Folder,
     dask_client,
+    given,
     make_folder,
     noise_option,
     note,
@@ -69,6 +71,41 @@ def _load(dataset: str, links: int, mode: str, noise: float, copies: int, sample
     return {"X": d.data, "y": d.target, "split": d.split}, f"UCR {dataset}, official split"
 
 
+#: Options that only some datasets use: parameter name -> those datasets (and, for MPEG-7,
+#: the protocols that use it).
+_USED_BY: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "links": (("reference", "synthetic", "mpeg7"), ("fixed-chain", "one-lap")),
+    "mode": (("synthetic", "mpeg7"), ("fixed-chain", "one-lap")),
+    "noise": (("reference", "synthetic", "mpeg7"), ("fixed-chain", "one-lap")),
+    "samples": (("reference", "synthetic"), ()),
+    "folds": (("reference", "synthetic", "mpeg7"), ("fixed-chain", "one-lap")),
+    "copies": (("mpeg7",), ("fixed-chain", "one-lap")),
+    "protocol": (("mpeg7",), ("fixed-chain", "one-lap")),
+    "laps": (("synthetic", "mpeg7"), ("fixed-chain",)),
+    "offset": (("synthetic", "mpeg7"), ("fixed-chain",)),
+    "jobs": (("mpeg7",), ("one-lap",)),
+    "scheduler": (("synthetic", "mpeg7"), ("fixed-chain", "one-lap")),
+}
+
+
+def _refuse_unused(ctx: click.Context, dataset: str, protocol: str) -> None:
+    """A usage error naming the first option set that ``dataset`` (and ``protocol``) ignores."""
+    for name, (datasets, protocols) in _USED_BY.items():
+        flag = given(ctx, name)
+        if not flag:
+            continue
+        if dataset not in datasets:
+            where = ", ".join(datasets)
+            raise click.BadParameter(
+                f"applies to --dataset {where} only, not to --dataset {dataset}", param_hint=flag[0]
+            )
+        if dataset == "mpeg7" and protocol not in protocols:
+            raise click.BadParameter(
+                f"applies to --protocol {protocols[0]} only, not to --protocol {protocol}",
+                param_hint=flag[0],
+            )
+
+
 def _pair(ctx, param, value):
     """'low,high' -> (low, high), both finite and >= 0, low <= high."""
     try:
@@ -94,9 +131,9 @@ def _pair(ctx, param, value):
 @click.option("--methods", default=DEFAULT_METHODS, show_default=True,
               help=f"Comma-separated, from: {', '.join(METHODS)}.")  # fmt: skip
 @click.option("--folds", type=click.IntRange(min=2), default=10, show_default=True)
-@click.option("--data-dir", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--data-dir", type=Folder(), default=None,
               help="MPEG-7 folder (default ../shared/data/mpeg7-part-b).")  # fmt: skip
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--out", type=Folder(),
               default=Path("bench-results"), show_default=True)  # fmt: skip
 @click.option("--ucr-path", type=click.Path(exists=True, path_type=Path), default=None,
               help="UCR / UEA: the archive's folder, a data set's folder or its _TRAIN file "
@@ -117,7 +154,8 @@ def _pair(ctx, param, value):
               "links are of unit length: also the approach's number of links).")  # fmt: skip
 @random_state_option("Seed of the generated data and of the folds.")
 @click.option("--jobs", type=click.IntRange(min=-1), default=1, show_default=True,
-              help="MPEG-7: processes generating the wraps (-1: all cores).")  # fmt: skip
+              help="MPEG-7, --protocol one-lap: processes tuning the link lengths (-1: all "
+              "cores).")  # fmt: skip
 @scheduler_option
 def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir, out, ucr_path,
           ucr_name, protocol, laps, offset, random_state, jobs, scheduler=None):  # fmt: skip
@@ -147,6 +185,7 @@ def bench(dataset, links, mode, noise, copies, samples, methods, folds, data_dir
             raise click.BadParameter(
                 f"applies to --dataset {needs} only, not to --dataset {dataset}", param_hint=hint
             )
+    _refuse_unused(click.get_current_context(), dataset, protocol)
     make_folder(out, "--out")
     with dask_client(scheduler) as client:  # generates the wraps on the cluster
         kw, title = _load(dataset, links, mode, noise, copies, samples, data_dir, random_state,

@@ -65,9 +65,17 @@ def _read_stdin() -> np.ndarray:
     stream = sys.stdin
     if stream is None or stream.isatty():
         raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
-    lines = stream.read().removeprefix("\ufeff").splitlines()  # (a byte-order mark)
+    try:
+        text = stream.read()
+        text.encode("utf-8")  # bytes that are not UTF-8 read as lone surrogates fail here
+    except (UnicodeDecodeError, UnicodeEncodeError):
+        raise ValueError("standard input: not UTF-8 text (angle arrays, one per line)") from None
+    lines = text.removeprefix("\ufeff").splitlines()  # (a byte-order mark)
     if not any(line.split("#", 1)[0].strip() for line in lines):
-        raise ValueError("give either ANGLES or --file, or pipe angle arrays into stdin")
+        raise ValueError(
+            "standard input holds no angle arrays: give ANGLES or --file, or pipe angle "
+            "arrays into stdin"
+        )
     return parse_angle_rows(lines, "standard input")
 
 
@@ -169,7 +177,7 @@ def classify(
     """
     from .._validation import as_angle_array
     from ..io import best_class_score, check_chain_length
-    from ..io._deploy import _predict_once
+    from ..io._deploy import _predict_once, info_reject_below
     from ..report import classification_table, table_to_json
 
     ctx = click.get_current_context()
@@ -195,7 +203,7 @@ def classify(
         model, info = model_from_file(model_file)
         name = f"the model {model_file.name}"
         n_in = getattr(model, "n_features_in_", None)
-        check_chain_length(X, info, n_in if isinstance(n_in, int) else X.shape[1], name)
+        check_chain_length(X, info, n_in if isinstance(n_in, int) else None, name)
     labels, proba, best = _predict_once(model, X)
     labels = labels.astype(object)
     own = getattr(model, "reject", None)
@@ -209,8 +217,8 @@ def classify(
             rejected = labels == getattr(model, "unknown_label", "unknown")
             labels[rejected] = model.classes_[np.argmax(proba[rejected], axis=1)]
     elif reject or reject_below is not None:
-        threshold = reject_below if reject_below is not None else info.get("reject_below")
-        if not isinstance(threshold, int | float):
+        threshold = reject_below if reject_below is not None else info_reject_below(info, name)
+        if threshold is None:
             raise ValueError(f"{name} has no rejection threshold of its own: give --reject-below")
         best = best if best is not None else best_class_score(model, X)
         labels[best < threshold] = "unknown"
@@ -238,6 +246,8 @@ def _many(
         raise click.UsageError(
             "--files/--scheduler take the place of ANGLES and --file: give --files GLOB"
         )
+    if out_dir is None:
+        raise click.UsageError("--files needs --out-dir, the folder for the per-file results")
     model = model_from_file(model_file)[0] if model_file is not None else None
     from ._files import classify_files
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..classifiers import FourierClassifier
 from ..datasets import thesis_tentacle
-from .options import make_folder, noise_option, random_state_option
+from .options import Folder, make_folder, noise_option, random_state_option
 
 
 def perturbed_variants(
@@ -91,7 +91,7 @@ def write_wrap_figures(out: Path) -> list[Path]:
 @click.command()
 @click.option(
     "--out",
-    type=click.Path(file_okay=False, path_type=Path),
+    type=Folder(),
     default=Path("out"),
     show_default=True,
     help="Folder for the figures.",

@@ -43,15 +43,15 @@ def parse_angle(token: str) -> float:
             f"{token!r} is not a number or an expression of pi such as pi/2, 2*pi/3, -pi/8"
         )
     value = float(m["coef"]) if m["coef"] is not None else 1.0
-    if not np.isfinite(value):
-        raise ValueError(f"{token!r} is too large: not a finite number")
     if m["pi"]:
         value *= np.pi
     if m["den"] is not None:
         den = float(m["den"])
         if den == 0:
             raise ValueError(f"{token!r} divides by zero")
-        value /= den
+        value = value / den if np.isfinite(den) else np.inf  # pi/1e400 is not 0
+    if not np.isfinite(value):  # 1e400, or 1e308*pi and 1/1e-320 beyond float64
+        raise ValueError(f"{token!r} is too large: not a finite number")
     return -value if m["sign"] == "-" else value
 
 
@@ -169,6 +169,8 @@ class OutputFile(click.Path):
         self.suffixes = suffixes
 
     def convert(self, value, param, ctx):  # noqa: D102
+        if value == "":  # Path("") is the current folder
+            self.fail("the file name is empty", param, ctx)
         path = cast(Path, super().convert(value, param, ctx))
         if not path.absolute().parent.is_dir():
             self.fail(f"the folder {str(path.parent)!r} does not exist", param, ctx)
@@ -186,6 +188,22 @@ class OutputFile(click.Path):
                 ctx,
             )
         return path
+
+
+class Folder(click.Path):
+    """Click type for a folder name (not a file's); an empty name is refused.
+
+    ``Path("")`` is the current folder: an empty option value (an unset shell
+    variable, say) would otherwise write into, or read, the current folder.
+    """
+
+    def __init__(self) -> None:
+        super().__init__(file_okay=False, path_type=Path)
+
+    def convert(self, value, param, ctx):  # noqa: D102
+        if value == "":
+            self.fail("the folder name is empty (give '.' for the current folder)", param, ctx)
+        return super().convert(value, param, ctx)
 
 
 class AngleList(click.ParamType):
@@ -398,7 +416,7 @@ def files_options(suffix_help: str) -> Callable:
     def decorate(command: Callable) -> Callable:
         command = click.option(
             "--out-dir",
-            type=click.Path(file_okay=False, path_type=Path),
+            type=Folder(),
             default=None,
             help=f"With --files: folder for the outputs, one per input file ({suffix_help}); "
             "each appears only once its file is complete.",

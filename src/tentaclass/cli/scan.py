@@ -24,6 +24,7 @@ from typing import IO, Any
 import click
 import numpy as np
 
+from .._validation import MAX_AXIS, MAX_INT64, MAX_SAMPLES
 from ..errors import TentaclassError
 from .options import (
     OutputFile,
@@ -88,7 +89,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 )
 @click.option(
     "--width",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=MAX_AXIS),
     help="Pixels per row (required for raw bytes; belt width for --simulate).",
 )
 @click.option(
@@ -126,14 +127,14 @@ def _chunks(source: Any, keep: list | None) -> Any:
 )
 @click.option(
     "--max-height",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=MAX_INT64),
     default=1024,
     show_default=True,
     help="Objects taller than this (rows) are reported as too tall.",
 )
 @click.option(
     "--min-area",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=MAX_INT64),
     default=1,
     show_default=True,
     help="Ignore objects of fewer pixels (sensor speckle).",
@@ -160,7 +161,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 )
 @click.option(
     "--simulate",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=MAX_SAMPLES),
     metavar="N",
     help="Scan a generated belt of N random objects (some damaged) instead of FILE.",
 )
@@ -172,7 +173,7 @@ def _chunks(source: Any, keep: list | None) -> Any:
 )
 @click.option(
     "--chunk-rows",
-    type=click.IntRange(min=1),
+    type=click.IntRange(min=1, max=MAX_AXIS),
     default=1024,
     show_default=True,
     help="Rows read and processed per step.",
@@ -222,12 +223,18 @@ def scan(
     ctx = click.get_current_context()
     if threshold not in ("auto", "binary", "fixed", "adaptive"):
         try:
-            threshold = float(threshold)  # type: ignore[assignment]
+            level = float(threshold)
         except ValueError:
             raise click.BadParameter(
                 f"{threshold!r}: a number, auto, binary, fixed or adaptive",
                 param_hint="--threshold",
             ) from None
+        if not np.isfinite(level):  # nan, inf and numbers beyond float64 (1e400)
+            raise click.BadParameter(
+                f"must be a finite number or auto, binary, fixed or adaptive, got {threshold!r}",
+                param_hint="--threshold",
+            )
+        threshold = level  # type: ignore[assignment]
     if simulate is None:
         refuse_unused(ctx, ("random_state", "seed", "write_belt"), "needs --simulate")
     if files is not None or scheduler is not None:
@@ -247,12 +254,15 @@ def scan(
     try:
         model = ScannerModel.load(model_file) if model_file is not None else None
         if simulate is not None:
-            belt = make_belt(
-                simulate,
-                width or 256,
-                random_state=random_state,
-                lanes=max(1, (width or 256) // 128),
-            )
+            try:  # a belt the options cannot make is a usage error, as wrap's objects are
+                belt = make_belt(
+                    simulate,
+                    width or 256,
+                    random_state=random_state,
+                    lanes=max(1, (width or 256) // 128),
+                )
+            except (TentaclassError, ValueError) as exc:
+                raise click.UsageError(_one_line(exc)) from None
             if write_belt is not None:
                 write_pbm(write_belt, belt.image)
             source: Any = (

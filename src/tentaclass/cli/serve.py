@@ -11,6 +11,8 @@ from pathlib import Path
 
 import click
 
+from .options import Folder
+
 #: Hosts made of digits and dots only: IPv4 addresses, which the resolver would
 #: otherwise also read in the short forms "300" (0.0.1.44) or "10.1" (10.0.0.1).
 _DOTTED = re.compile(r"^[\d.]+$")
@@ -20,18 +22,20 @@ def listening_socket(host: str, port: int) -> socket.socket:
     """A TCP socket bound to ``host:port`` for the server, or a one-line ClickException.
 
     ``host`` is an IPv4 or IPv6 address (brackets allowed) or a name;
-    port 0 picks a free port.
+    port 0 picks a free port. An empty or malformed address is a usage error
+    (exit code 2, as a port out of range is); a name that does not resolve or
+    an address this computer cannot listen on is an error of exit code 1.
     """
     name = host.strip()
     if name.startswith("[") and name.endswith("]"):
         name = name[1:-1]
     if not name:
-        raise click.ClickException("--host is empty: give an address such as 127.0.0.1 or 0.0.0.0")
+        raise click.UsageError("--host is empty: give an address such as 127.0.0.1 or 0.0.0.0")
     if _DOTTED.match(name):
         try:
             ipaddress.IPv4Address(name)
         except ValueError:
-            raise click.ClickException(
+            raise click.UsageError(
                 f"--host {host!r} is not an IPv4 address (four numbers 0-255 such as 127.0.0.1)"
             ) from None
     family = socket.AF_INET6 if ":" in name else socket.AF_INET
@@ -59,7 +63,7 @@ def listening_socket(host: str, port: int) -> socket.socket:
 @click.option("--host", default="127.0.0.1", show_default=True,
               help="Address to listen on (127.0.0.1: this computer only).")  # fmt: skip
 @click.option("--port", type=click.IntRange(0, 65535), default=8000, show_default=True)
-@click.option("--data-dir", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--data-dir", type=Folder(),
               help="Folder for taught shapes and the model file (default: in memory).")  # fmt: skip
 def serve(host: str, port: int, data_dir: Path | None) -> None:
     """Serve the page to draw objects, wrap a tentacle around them and name them.

@@ -7,12 +7,13 @@ import glob
 import re
 import zipfile
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import click
 import numpy as np
 
-from .._validation import as_angle_array, check_total_turn
+from .._validation import as_angle_array, check_spread, check_total_turn
+from ..errors import InputError
 from ..io import save_model
 from .options import (
     OutputFile,
@@ -33,7 +34,7 @@ from .options import (
 
 
 class Spread(click.ParamType):
-    """``auto`` or a number > 0."""
+    """``auto`` or a number > 0 that the classifiers can square (:func:`check_spread`)."""
 
     name = "auto|FLOAT"
 
@@ -46,6 +47,10 @@ class Spread(click.ParamType):
             self.fail(f"{value!r} is neither 'auto' nor a number", param, ctx)
         if not (np.isfinite(v) and v > 0):
             self.fail(f"spread must be 'auto' or a finite number > 0, got {value!r}", param, ctx)
+        try:
+            check_spread(v)  # 1e300 was refused by the classifier, after the data was read
+        except InputError as exc:
+            self.fail(str(exc), param, ctx)
         return v
 
 
@@ -76,6 +81,11 @@ def _read_npz(path: Path) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"{path}: X must be a 2-D array of real numbers, got {X.dtype} {X.shape}")
     if y.ndim != 1:
         raise ValueError(f"{path}: y must be 1-D, got shape {y.shape}")
+    if y.dtype.kind not in "biufUS":  # (float labels get the classifiers' own message)
+        raise ValueError(f"{path}: y must hold labels (strings or integers), got {y.dtype}")
+    empty = np.flatnonzero(y == y.dtype.type()) if y.dtype.kind in "US" else np.array([])
+    if empty.size:  # as a CSV row's empty label is refused
+        raise ValueError(f"{path}: label {int(empty[0])} is empty")
     return X.astype(np.float64), y
 
 
@@ -184,8 +194,9 @@ def read_outline(path: Path) -> np.ndarray:
     points = load_npy(path) if suffix == ".npy" else _read_points(path)
     try:
         return as_outline(points, str(path))
-    except ValueError as exc:
-        raise ValueError(f"{path}: {str(exc).splitlines()[0]}") from None
+    except ValueError as exc:  # the message names the file already ("a.csv intersects itself")
+        line = str(exc).splitlines()[0]
+        raise ValueError(line if line.startswith(str(path)) else f"{path}: {line}") from None
 
 
 def _read_points(path: Path) -> np.ndarray:
@@ -231,22 +242,27 @@ def _outline_files(patterns: tuple[str, ...]) -> list[Path]:
 def _pair(
     text: str | None, name: str, default: tuple[float, float] | None, one_is_max: bool = False
 ) -> tuple[float, float] | None:
+    """``MIN,MAX`` (or one number) of the option ``name``; a usage error naming it."""
     if text is None:
         return default
     try:
         values = [float(t) for t in text.replace(",", " ").split()]
     except ValueError:
-        raise ValueError(f"{name}: {text!r} is not a number or MIN,MAX") from None
+        raise click.BadParameter(f"{text!r} is not a number or MIN,MAX", param_hint=name) from None
     if len(values) not in (1, 2):
-        raise ValueError(f"{name}: expected MIN,MAX (one or two numbers), got {text!r}")
+        raise click.BadParameter(
+            f"expected MIN,MAX (one or two numbers), got {text!r}", param_hint=name
+        )
     if not all(np.isfinite(values)):
-        raise ValueError(f"{name}: MIN and MAX must be finite numbers, got {text!r}")
+        raise click.BadParameter(
+            f"MIN and MAX must be finite numbers, got {text!r}", param_hint=name
+        )
     if len(values) == 1:
         if one_is_max and values[0] < 0:
-            raise ValueError(f"{name}: MAX must be >= 0, got {text!r}")
+            raise click.BadParameter(f"MAX must be >= 0, got {text!r}", param_hint=name)
         values = [0.0, values[0]] if one_is_max else values * 2
     if values[0] > values[1]:
-        raise ValueError(f"{name}: expected MIN,MAX with MIN <= MAX, got {text!r}")
+        raise click.BadParameter(f"expected MIN,MAX with MIN <= MAX, got {text!r}", param_hint=name)
     return values[0], values[1]
 
 
@@ -445,24 +461,31 @@ def train(
     Use the model with "tentaclass classify --model FILE".
     """
     if (data is None) == (not outlines):
-        raise ValueError("give either --data or --outlines")
+        raise click.UsageError("give either --data or --outlines")
     if data is not None:
         refuse_unused(ctx, _FOR_OUTLINES, "is for --outlines; --data trains on measured arrays")
         if n_coeffs is not None:
             if n_harmonics is not None:
-                raise ValueError("give --n-harmonics only, not --n-coeffs as well")
+                raise click.UsageError("give --n-harmonics only, not --n-coeffs as well")
             n_harmonics = n_coeffs
         _train_on_arrays(data, out, classifier, spread, n_harmonics, detrend, scheduler)
         return
     refuse_unused(ctx, _FOR_DATA, "is for --data; --outlines trains the default recogniser")
     if n_links is None:
-        raise ValueError("--outlines needs --links (the chain's number of links)")
+        raise click.UsageError("--outlines needs --links (the chain's number of links)")
     if laps_text is not None and diameters_text is not None:
-        raise ValueError("give either --laps or --diameters, not both")
+        raise click.UsageError("give either --laps or --diameters, not both")
     diameters = _pair(diameters_text, "--diameters", None)
     laps = None if diameters is not None else _pair(laps_text, "--laps", (1.0, 2.0))
-    offset = _pair(offset_text, "--offset", (0.0, 2.0 * link_length))
-    noise = _pair(noise_text, "--noise", (0.0, 0.0), one_is_max=True)
+    offset = cast(tuple[float, float], _pair(offset_text, "--offset", (0.0, 2.0 * link_length)))
+    noise = cast(tuple[float, float], _pair(noise_text, "--noise", (0.0, 0.0), one_is_max=True))
+    from ..datasets._wraps import check_chain_settings
+
+    try:  # ranges the chain cannot wrap are usage errors, found before any file is read
+        check_chain_settings(n_links, link_length, laps=laps, diameters=diameters,
+                             offset=offset, noise=noise, mode=mode)  # fmt: skip
+    except InputError as exc:
+        raise click.UsageError(str(exc)) from None
     files = _outline_files(outlines)
     if labels_file is not None:
         table = read_labels(labels_file)

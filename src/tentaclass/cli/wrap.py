@@ -126,8 +126,8 @@ def wrap(shape: str | None, size: str | None, vertices: str | None, mask: Path |
                     outline, links, laps, start=start, direction=direction, mode=mode,
                     offset=offset,
                 )  # fmt: skip
-            except ValueError as exc:  # one line, whatever wraps the command
-                raise click.ClickException(f"--laps {laps:g}: {exc}") from None
+            except ValueError as exc:  # a usage error, as laps that need more links are
+                raise click.BadParameter(str(exc).splitlines()[0], param_hint="--laps") from None
         elif link_length is None:
             link_length = 1.0
         w = do_wrap(outline, links, link_length, noise=noise, random_state=random_state, **kw)

@@ -800,6 +800,61 @@ def _diameter(outline: np.ndarray) -> float:
     return float(np.sqrt((d**2).sum(-1)).max())
 
 
+def check_chain_settings(
+    n_links: int,
+    link_length: float,
+    *,
+    laps: tuple[float, float] | None,
+    diameters: tuple[float, float] | None,
+    offset: tuple[float, float],
+    noise: float | tuple[float, float],
+    mode: str,
+) -> tuple[
+    tuple[float, float] | None, tuple[float, float] | None, tuple[float, float], tuple[float, float]
+]:
+    """:func:`chain_wraps`' ranges, checked against the chain before any outline is read.
+
+    ``n_links`` and ``link_length`` are already checked. Returns ``laps``,
+    ``diameters``, ``offset`` and the noise range as ``(low, high)`` pairs
+    (``None`` for the one of ``laps`` and ``diameters`` not given).
+
+    Examples
+    --------
+    >>> check_chain_settings(16, 1.0, laps=(1, 9), diameters=None, offset=(0, 2), noise=0,
+    ...                      mode="taut")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.InputError: laps: 16 links cannot close 9 laps (at most 8: 2 links per lap)
+    """
+    if (laps is None) == (diameters is None):
+        raise InputError("give either laps or diameters (the other None)")
+    if laps is not None:
+        laps = _range(laps, "laps", allow_zero=False)
+        check_laps(laps[1], n_links)
+    if diameters is not None:
+        diameters = _range(diameters, "diameters", allow_zero=False)
+        if diameters[1] > 1 / MIN_LINK_FRACTION:
+            raise InputError(
+                f"diameters must be at most {1 / MIN_LINK_FRACTION:g} link lengths (links "
+                f"shorter than {MIN_LINK_FRACTION:g} of an object cannot be placed on it), "
+                f"got {diameters!r}"
+            )
+        if diameters[0] < 1.0:
+            raise InputError(
+                f"diameters must be at least 1 link length (a link must fit across the "
+                f"object), got {diameters!r}"
+            )
+    offset = _range(offset, "offset", allow_zero=True)
+    if offset[1] / link_length >= n_links - 2:
+        raise InputError(
+            f"offset must stay below (n_links - 2) * link_length = "
+            f"{(n_links - 2) * link_length:g} so that links reach the object, got {offset!r}"
+        )
+    noise_range = _noise_range(noise)
+    check_choice(mode, "mode", ("taut", "hug", "both"))
+    return laps, diameters, offset, noise_range
+
+
 def chain_wraps(
     outlines: Sequence[ArrayLike],
     n_links: int,
@@ -883,36 +938,13 @@ def chain_wraps(
     n_total = len(shapes) * n_wraps
     check_total(n_total, "the wraps (outlines x n_wraps)", maximum=MAX_SAMPLES, unit="samples")
     check_total(n_total * n_links, "the angles (outlines x n_wraps x n_links)")
-    if (laps is None) == (diameters is None):
-        raise InputError("give either laps or diameters (the other None)")
-    if laps is not None:
-        laps = _range(laps, "laps", allow_zero=False)
-        check_laps(laps[1], n_links)
-    if diameters is not None:
-        diameters = _range(diameters, "diameters", allow_zero=False)
-        if diameters[1] > 1 / MIN_LINK_FRACTION:
-            raise InputError(
-                f"diameters must be at most {1 / MIN_LINK_FRACTION:g} link lengths (links "
-                f"shorter than {MIN_LINK_FRACTION:g} of an object cannot be placed on it), "
-                f"got {diameters!r}"
-            )
-        if diameters[0] < 1.0:
-            raise InputError(
-                f"diameters must be at least 1 link length (a link must fit across the "
-                f"object), got {diameters!r}"
-            )
     if offset_links is not UNSET:
         links = _range(offset_links, "offset_links", allow_zero=True)
         offset = renamed("offset", offset, "offset_links", (links[0] * ell, links[1] * ell),
                          default=(0.0, 2.0))  # fmt: skip
-    offset = _range(offset, "offset", allow_zero=True)
-    if offset[1] / ell >= n_links - 2:
-        raise InputError(
-            f"offset must stay below (n_links - 2) * link_length = {(n_links - 2) * ell:g} "
-            f"so that links reach the object, got {offset!r}"
-        )
-    nlo, nhi = _noise_range(noise)
-    check_choice(mode, "mode", ("taut", "hug", "both"))
+    laps, diameters, offset, (nlo, nhi) = check_chain_settings(
+        n_links, ell, laps=laps, diameters=diameters, offset=offset, noise=noise, mode=mode
+    )
     rng = np.random.default_rng(check_positive_int(random_state, "random_state", minimum=0))
     total = len(shapes) * n_wraps
     index = np.repeat(np.arange(len(shapes)), n_wraps)

@@ -115,11 +115,14 @@ def _periods(heading: FloatArray, points: np.ndarray, start: FloatArray) -> Floa
         m = len(h)
         # heading at arc x: link midpoints at k + 0.5
         now = _interp(h, np.broadcast_to(s - 0.5, (m, len(s))))[:, None, :]
+        # only lap lengths whose ends meet for some row are scored (the others cost inf):
+        # a wrap of many laps or a short chain leaves few of the 10 * n candidates
+        live = np.flatnonzero(_ends_meet(h, p, a, cands)[1].any(axis=0))
+        cost = np.full((m, len(cands)), np.inf)
         step = max(1, _WORK_VALUES // (m * len(s)))
-        cost = np.concatenate(
-            [_lap_costs(h, p, a, now, cands[c : c + step], s) for c in range(0, len(cands), step)],
-            axis=1,
-        )
+        for c in range(0, len(live), step):
+            cols = live[c : c + step]
+            cost[:, cols] = _lap_costs(h, p, a, now, cands[cols], s)
         best = np.argmin(cost, axis=1)
         found = np.isfinite(cost[np.arange(m), best])
         out[lo : lo + chunk] = np.where(found, cands[best], np.nan)
@@ -141,16 +144,33 @@ def _lap_costs(
     diff = (now - then - 2 * np.pi) ** 2
     count = valid.sum(axis=2)
     cost = np.where(valid, diff, 0.0).sum(axis=2) / np.maximum(count, 1)
-    end_then = _interp_complex(p, np.broadcast_to(n - cands, (m, len(cands))))
-    gap = np.abs(p[:, -1:] - end_then) / cands
+    gap, meet = _ends_meet(h, p, a, cands)
     cost = cost + gap**2
-    turned = h[:, -1:] - _interp(h, np.broadcast_to(n - 1.0 - cands, (m, len(cands))))
     # a lap overlaps itself by a link or more and its ends meet again
-    ok = (count >= 2) & (np.abs(turned - 2 * np.pi) < _TURN_TOL) & (gap < _GAP_TOL)
+    ok = (count >= 2) & meet
     # count is in half links: a short overlap must close in links, not only relative to P
     ok &= (count >= 2 * _SHORT_OVERLAP * n) | (gap * cands < _SHORT_GAP)
-    ok &= cands[None, :] <= n - a[:, None]
     return np.where(ok, cost, np.inf)
+
+
+def _ends_meet(
+    h: FloatArray, p: np.ndarray, a: FloatArray, cands: FloatArray
+) -> tuple[FloatArray, np.ndarray]:
+    """Whether a lap of ``cands`` links can end where the chain ends, and the gap there.
+
+    The gap is the distance from the chain's end to the point ``cands`` links
+    before it, over the lap length. The ends allow a lap where the heading
+    turned within ``_TURN_TOL`` of a full turn, the gap is below ``_GAP_TOL``
+    and the lap lies after the approach. Rows ``h`` (headings), ``p`` (complex
+    joints), ``a`` (surface starts); shape (rows, candidates). Costs one value
+    per candidate, not one per arc position.
+    """
+    m, n = h.shape
+    end_then = _interp_complex(p, np.broadcast_to(n - cands, (m, len(cands))))
+    gap = np.abs(p[:, -1:] - end_then) / cands
+    turned = h[:, -1:] - _interp(h, np.broadcast_to(n - 1.0 - cands, (m, len(cands))))
+    meet = (np.abs(turned - 2 * np.pi) < _TURN_TOL) & (gap < _GAP_TOL)
+    return gap, meet & (cands[None, :] <= n - a[:, None])
 
 
 def _interp_complex(z: np.ndarray, x: FloatArray) -> np.ndarray:

@@ -19,8 +19,14 @@ from typing import Any
 import numpy as np
 
 from .._typing import ArrayLike, FloatArray
-from .._validation import as_angle_array, check_fitted_X
-from ..errors import InputError
+from .._validation import (
+    MAX_LINKS,
+    as_angle_array,
+    check_fitted_X,
+    check_fraction,
+    check_positive_int,
+)
+from ..errors import InputError, ModelFileError
 from ._model_file import load_model, model_info
 
 __all__ = [
@@ -111,7 +117,9 @@ def bundled_model(n_links: int) -> tuple[Any, dict]:
     return _load_bundled(int(n_links))
 
 
-def check_chain_length(X: ArrayLike, info: dict, n_features_in: int, name: str = "model") -> None:
+def check_chain_length(
+    X: ArrayLike, info: dict, n_features_in: int | None, name: str = "model"
+) -> None:
     """Refuse arrays whose length is not the chain ``info`` (or the model) was trained for.
 
     Parameters
@@ -119,8 +127,9 @@ def check_chain_length(X: ArrayLike, info: dict, n_features_in: int, name: str =
     X : array_like of shape (n_samples, n_joints)
     info : dict
         From :func:`model_info`; its ``"chain"`` entry is used when present.
-    n_features_in : int
-        The model's ``n_features_in_``, used when ``info`` names no chain.
+    n_features_in : int or None
+        The model's ``n_features_in_``, used when ``info`` names no chain;
+        None for a model that takes arrays of any length.
     name : str
         How to call the model in the message (e.g. its file name).
 
@@ -128,6 +137,9 @@ def check_chain_length(X: ArrayLike, info: dict, n_features_in: int, name: str =
     ------
     tentaclass.errors.InputError
         Naming both lengths.
+    tentaclass.errors.ModelFileError
+        ``info`` names a chain length that is not a count of links, or not
+        the length the model takes (a file edited by hand).
 
     Examples
     --------
@@ -135,12 +147,27 @@ def check_chain_length(X: ArrayLike, info: dict, n_features_in: int, name: str =
     Traceback (most recent call last):
     ...
     tentaclass.errors.InputError: m was trained for a chain of 16 links; these arrays have 20...
+    >>> check_chain_length(np.zeros((1, 16)), {"chain": {"n_links": 24}}, 16, "m")
+    Traceback (most recent call last):
+    ...
+    tentaclass.errors.ModelFileError: m: info says a chain of 24 links, but the model takes \
+arrays of 16 angles: the file was edited or damaged
     """
     X = as_angle_array(X, "angle arrays")
     chain = info.get("chain") if isinstance(info, dict) else None
     n = chain.get("n_links") if isinstance(chain, dict) else None
-    n = n_features_in if not isinstance(n, int) else n
-    if X.shape[-1] != n:
+    if n is not None:
+        try:
+            n = check_positive_int(n, "n_links", maximum=MAX_LINKS)
+        except InputError as exc:
+            raise ModelFileError(f"{name}: info chain {exc}") from None
+        if n_features_in is not None and n != n_features_in:
+            raise ModelFileError(
+                f"{name}: info says a chain of {n} links, but the model takes arrays of "
+                f"{n_features_in} angles: the file was edited or damaged"
+            )
+    n = n_features_in if n is None else n
+    if n is not None and X.shape[-1] != n:
         raise InputError(
             f"{name} was trained for a chain of {n} links; these arrays have "
             f"{X.shape[-1]} joint angles (classify arrays of {n} angles, or train a model "
@@ -273,6 +300,29 @@ def best_class_score(model: Any, X: ArrayLike) -> FloatArray:
     for step in steps:
         Xt = step.transform(Xt)
     return np.max(final.class_scores(Xt), axis=1)
+
+
+def info_reject_below(info: dict, name: str = "model") -> float | None:
+    """The rejection threshold ``info["reject_below"]`` of a model file, or None without one.
+
+    Raises
+    ------
+    tentaclass.errors.ModelFileError
+        A threshold that is not a number in [0, 1] (a file edited by hand:
+        ``true`` rejected every array, ``-5`` none).
+
+    Examples
+    --------
+    >>> info_reject_below({"reject_below": 0.02}), info_reject_below({})
+    (0.02, None)
+    """
+    value = info.get("reject_below") if isinstance(info, dict) else None
+    if value is None:
+        return None
+    try:
+        return check_fraction(value, "reject_below")
+    except InputError as exc:
+        raise ModelFileError(f"{name}: info {exc}") from None
 
 
 def rejection_threshold(model: Any, X_known: ArrayLike, false_rejections: float = 0.01) -> float:
