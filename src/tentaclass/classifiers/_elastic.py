@@ -55,12 +55,13 @@ def height_descriptors(outlines: FloatArray, stride: int) -> tuple[FloatArray, F
     outline's mirror image traversed counter-clockwise (its reverse with
     negated heights).
     """
-    F = _heights(outlines, stride)
-    Fm = -_heights(np.roll(outlines[:, ::-1], 1, axis=1), stride)
+    F = heights(outlines, stride)
+    Fm = -heights(np.roll(outlines[:, ::-1], 1, axis=1), stride)
     return F, Fm
 
 
-def _heights(Q: FloatArray, stride: int) -> FloatArray:
+def heights(Q: FloatArray, stride: int) -> FloatArray:
+    """The first array of :func:`height_descriptors` alone (no mirror images)."""
     # Q: dense points, DENSE per described point; heights are taken of all dense
     # points so that each smoothed value is an integral along the outline and
     # varies smoothly with the described point's position
@@ -202,7 +203,7 @@ def elastic_distances(A: FloatArray, B: FloatArray | None) -> FloatArray:
     The aligned cost is divided by the sum of the two shapes' complexities
     (the spread of their descriptors over the outline).
     """
-    FA, _ = height_descriptors(A, DENSE)
+    FA = heights(A, DENSE)
     ca = complexity(FA)
     FB, FBm = height_descriptors(A if B is None else B, DENSE // 2)
     D = _distances(FA, FB, FBm, B is None, SKIP, N_STARTS)
