@@ -55,12 +55,13 @@ def height_descriptors(outlines: FloatArray, stride: int) -> tuple[FloatArray, F
     outline's mirror image traversed counter-clockwise (its reverse with
     negated heights).
     """
-    F = _heights(outlines, stride)
-    Fm = -_heights(np.roll(outlines[:, ::-1], 1, axis=1), stride)
+    F = heights(outlines, stride)
+    Fm = -heights(np.roll(outlines[:, ::-1], 1, axis=1), stride)
     return F, Fm
 
 
-def _heights(Q: FloatArray, stride: int) -> FloatArray:
+def heights(Q: FloatArray, stride: int) -> FloatArray:
+    """The first array of :func:`height_descriptors` alone (no mirror images)."""
     # Q: dense points, DENSE per described point; heights are taken of all dense
     # points so that each smoothed value is an integral along the outline and
     # varies smoothly with the described point's position
@@ -70,13 +71,15 @@ def _heights(Q: FloatArray, stride: int) -> FloatArray:
     span = TANGENT_SPAN
     t = np.roll(Q, -span, axis=1)[:, ::stride] - np.roll(Q, span, axis=1)[:, ::stride]
     t /= np.maximum(np.linalg.norm(t, axis=2, keepdims=True), 1e-300)
-    normal = np.stack([-t[..., 1], t[..., 0]], axis=-1)  # left: inwards when CCW
+    nx, ny = -t[..., 1], t[..., 0]  # the normal on the left: inwards when CCW
     idx = (stride * np.arange(N)[:, None] + np.arange(1, K)[None, :]) % K  # (N, K-1)
     F = np.empty((n, N, N_HEIGHTS))
     edges = np.linspace(0, K - 1, N_HEIGHTS + 1).round().astype(int)
-    for k in range(n):  # one shape at a time: (N, K-1, 2) stays small
-        rel = Q[k, idx, :] - P[k, :, None, :]
-        h = np.einsum("ijk,ik->ij", rel, normal[k])
+    Qx, Qy = np.ascontiguousarray(Q[..., 0]), np.ascontiguousarray(Q[..., 1])
+    for k in range(n):  # one shape at a time: (N, K-1) stays small
+        # the height of every point over each described point's tangent, x and y apart
+        h = (Qx[k, idx] - P[k, :, 0, None]) * nx[k, :, None]
+        h += (Qy[k, idx] - P[k, :, 1, None]) * ny[k, :, None]
         F[k] = np.add.reduceat(h, edges[:-1], axis=1) / np.diff(edges)
     # scale: by the largest magnitude over the N described points (whatever the stride)
     coarse = F[:, :: DENSE // stride]
@@ -202,7 +205,7 @@ def elastic_distances(A: FloatArray, B: FloatArray | None) -> FloatArray:
     The aligned cost is divided by the sum of the two shapes' complexities
     (the spread of their descriptors over the outline).
     """
-    FA, _ = height_descriptors(A, DENSE)
+    FA = heights(A, DENSE)
     ca = complexity(FA)
     FB, FBm = height_descriptors(A if B is None else B, DENSE // 2)
     D = _distances(FA, FB, FBm, B is None, SKIP, N_STARTS)

@@ -415,7 +415,7 @@ def _lap_views(
 
 def _elastic_descriptors(laps: FloatArray) -> tuple[np.ndarray, np.ndarray]:
     """Height descriptors (float32) and complexities of laps rebuilt as outlines."""
-    heights = _elastic.height_descriptors(_lap_outlines(laps), _elastic.DENSE)[0]
+    heights = _elastic.heights(_lap_outlines(laps), _elastic.DENSE)
     return heights, _elastic.complexity(heights)
 
 

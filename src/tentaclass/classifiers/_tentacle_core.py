@@ -449,11 +449,12 @@ def _partial_distances(heads: FloatArray, laps: FloatArray, headings: FloatArray
     """
     n = headings.shape[1]
     d = np.full((len(heads), len(headings)), np.inf)
-    for f in _ARC_SCALES:
-        ms = np.array([_arc_points(t * f, n) for t in laps])
-        for m in np.unique(ms):
-            sel = np.flatnonzero(ms == m)
-            d[sel] = np.minimum(d[sel], _arc_distances(_resample_rows(heads[sel], m), headings))
+    # (scale, wrap) -> points: an arc's distances depend on its points only, so each
+    # wrap is matched once per distinct length, whichever scales round to it
+    ms = np.array([[_arc_points(t * f, n) for t in laps] for f in _ARC_SCALES], dtype=np.int64)
+    for m in np.unique(ms):
+        sel = np.flatnonzero((ms == m).any(axis=0))
+        d[sel] = np.minimum(d[sel], _arc_distances(_resample_rows(heads[sel], m), headings))
     return d
 
 
