@@ -340,7 +340,12 @@ def test_dft_layer_too_large_to_hold_is_refused():
 def test_one_blas_thread_holds_blas_on_one_thread_and_restores_it():
     from threadpoolctl import threadpool_info, threadpool_limits
 
-    from tentaclass.features.fourier import _one_blas_thread
+    from tentaclass.features.fourier import _blas_controller, _blas_libraries, _one_blas_thread
+
+    # the controllers are found once per process: find them again, so that they
+    # include any BLAS library that earlier tests loaded since
+    _blas_controller.cache_clear()
+    _blas_libraries.cache_clear()
 
     def blas_threads():
         return {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"}
