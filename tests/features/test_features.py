@@ -335,3 +335,30 @@ def test_dft_layer_too_large_to_hold_is_refused():
         dft_layer(10**6)
     with pytest.raises(InputError, match=r"n = 22,361 .* 1,000,028,642 values, more than"):
         dft_layer(22_361)
+
+
+def test_one_blas_thread_holds_blas_on_one_thread_and_restores_it():
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from tentaclass.features.fourier import _blas_controller, _blas_libraries, _one_blas_thread
+
+    # the controllers are found once per process: find them again, so that they
+    # include any BLAS library that earlier tests loaded since
+    _blas_controller.cache_clear()
+    _blas_libraries.cache_clear()
+
+    def blas_threads():
+        return {i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"}
+
+    with threadpool_limits(2, user_api="blas"):
+        with _one_blas_thread() as threads:
+            assert threads == 2 and blas_threads() <= {1}
+            with _one_blas_thread() as inner:  # nested: the user's setting, still held
+                assert inner == 2 and blas_threads() <= {1}
+            assert blas_threads() <= {1}
+        assert blas_threads() <= {2}
+        with pytest.raises(KeyError), _one_blas_thread():
+            raise KeyError("inside")
+        assert blas_threads() <= {2}  # restored after an error too
+    with threadpool_limits(1, user_api="blas"), _one_blas_thread() as threads:
+        assert threads == 1 and blas_threads() <= {1}

@@ -261,7 +261,57 @@ def test_latency_batches_objects_without_changing_them(belt, whole, latency):
         out += got
     out += scanner.close()
     assert [o.to_dict() for o in out] == whole
-    assert late <= latency + 1  # emitted at most `latency` rows after the row that ended it
+    assert late <= latency  # emitted at most `latency` rows after its last row
+
+
+def test_latency_runs_a_stage_of_rows_at_once(belt, whole):
+    # rows fed one by one go through the kernel `latency` at a time: objects
+    # come out only in the calls that fill the stage, each batch holding every
+    # object completed by then
+    latency = 16
+    scanner = LineScanner(belt.image.shape[1], latency=latency)
+    calls = {}
+    for i, row in enumerate(belt.image):
+        got = scanner.feed(row)
+        if got:
+            calls[i] = got
+            assert all(o.last_row < i for o in got)
+    assert calls and all(i % latency == latency - 1 for i in calls)
+    emitted = [o for got in calls.values() for o in got]
+    last = max(calls)
+    assert [o.to_dict() for o in emitted] == [o for o in whole if o["last_row"] < last]
+
+
+def test_one_row_path_refuses_bad_rows_like_chunks(belt, whole):
+    image = belt.image
+    width = image.shape[1]
+    scanner = LineScanner(width, latency=8)
+    out = []
+    for row in image[:20]:
+        out += scanner.feed(row)
+    row = image[20]
+    nan, two = row.astype(float), row.astype(int)
+    nan[3], two[5] = np.nan, 2
+    bad = [
+        (row[:-1], f"row 20 has {width - 1} pixels, expected {width}"),
+        (np.append(row, False), f"row 20 has {width + 1} pixels, expected {width}"),
+        (row[None, None], "shape"),
+        (nan, "row 20, column 3: value nan is not finite"),
+        (two, "row 20, column 5: value 2, expected 0 or 1"),
+        (row.astype(str), "numbers or bool"),
+    ]
+    for rows, message in bad:
+        with pytest.raises(InputError, match=message):
+            scanner.feed(rows)
+        assert scanner.rows_seen == 20
+    # rows of another layout or type still go through, to the same objects
+    out += scanner.feed(np.repeat(image[20], 2)[::2])  # not contiguous
+    out += scanner.feed(image[21].astype(np.uint8))
+    out += scanner.feed(image[22:23])  # one row as a chunk
+    for row in image[23:]:
+        out += scanner.feed(row)
+    out += scanner.close()
+    assert [o.to_dict() for o in out] == whole
 
 
 @pytest.mark.parametrize("chunk", [3, 50])

@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable, Iterable, Iterator
-from contextlib import contextmanager, nullcontext
+from collections.abc import Callable, Iterable
+from contextlib import nullcontext
 from functools import lru_cache
 from typing import Any
 
@@ -218,47 +218,60 @@ def _blas_controller() -> Any:
     return ThreadpoolController()
 
 
+@lru_cache(maxsize=1)
+def _blas_libraries() -> tuple[Any, ...]:
+    """The BLAS libraries' threadpoolctl controllers (found once)."""
+    return tuple(lib for lib in _blas_controller().lib_controllers if lib.user_api == "blas")
+
+
 class _OneBlasThread:
     """BLAS held to one thread while any caller is inside; its setting kept for them.
 
     Counted, so that callers on several threads neither read each other's
     limit as the user's setting nor restore it while another still runs.
+    A context manager: ``with _one_blas_thread() as threads:`` gives the
+    number of threads BLAS was set to. The libraries' threads are read and
+    set directly (a few microseconds; a threadpoolctl limit costs some 15 us
+    per use, paid by every batch of a line scanner), and only those not on
+    one thread already are changed.
     """
 
     def __init__(self) -> None:
         self.lock = threading.Lock()
         self.users = 0
         self.threads = 1
-        self.limiter: Any = None
+        self.changed: list[tuple[Any, int]] = []
+
+    def __enter__(self) -> int:
+        with self.lock:
+            if self.users == 0:
+                found = [(lib, lib.get_num_threads()) for lib in _blas_libraries()]
+                self.threads = max([1, *(n for _, n in found if n is not None)])
+                self.changed = [(lib, n) for lib, n in found if n is not None and n != 1]
+                for lib, _ in self.changed:
+                    lib.set_num_threads(1)
+            self.users += 1
+            return self.threads
+
+    def __exit__(self, *exc: object) -> None:
+        with self.lock:
+            self.users -= 1
+            if self.users == 0:
+                for lib, n in self.changed:
+                    lib.set_num_threads(n)
+                self.changed = []
 
 
 _BLAS_STATE = _OneBlasThread()
 
 
-@contextmanager
-def _one_blas_thread() -> Iterator[int]:
-    """Limit BLAS to one thread; yield the number of threads it was set to.
+def _one_blas_thread() -> _OneBlasThread:
+    """Limit BLAS to one thread; entering yields the number of threads it was set to.
 
     The limit is the process's: BLAS calls from other threads meanwhile run on
     one thread too.
     """
-    state = _BLAS_STATE
-    with state.lock:
-        if state.users == 0:
-            controller = _blas_controller()
-            blas = controller.select(user_api="blas").lib_controllers
-            state.threads = max([1, *(lib.num_threads for lib in blas)])
-            state.limiter = controller.limit(limits=1, user_api="blas")
-        state.users += 1
-        threads = state.threads
-    try:
-        yield threads
-    finally:
-        with state.lock:
-            state.users -= 1
-            if state.users == 0:
-                state.limiter.restore_original_limits()
-                state.limiter = None
+    return _BLAS_STATE
 
 
 @lru_cache(maxsize=1)

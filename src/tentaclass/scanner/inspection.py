@@ -10,7 +10,7 @@ from scipy import ndimage
 
 from .._validation import as_binary_grid_2d, as_grid_list, check_positive_float
 from ..errors import InputError
-from ..features.fourier import _blas_controller
+from ..features.fourier import _one_blas_thread
 from ._rounding import rounded
 from .defects import (
     REASON,
@@ -225,7 +225,7 @@ def inspect_masks(
     if n >= _ONE_THREAD_MIN_ROWS:
         # thin products (features, the classifier's distances): BLAS threads only
         # cost here (ten times over on a busy machine)
-        with _blas_controller().limit(limits=1, user_api="blas"):
+        with _one_blas_thread():
             proba = model.predict_features_proba(model._batch_features(m))
     else:  # too small for BLAS to start its threads
         proba = model.predict_features_proba(model._batch_features(m))

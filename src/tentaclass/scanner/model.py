@@ -27,7 +27,7 @@ from .._thesis_data import scanner_training_grids
 from .._validation import MAX_POINTS, as_grid_list, as_object_mask, check_positive_int
 from ..classifiers import PNNClassifier
 from ..errors import InputError, ModelFileError
-from ..features.fourier import _blas_controller
+from ..features.fourier import _one_blas_thread
 from .descriptors import (
     DESCRIPTOR_GROUPS,
     Geometry,
@@ -221,7 +221,7 @@ class ScannerModel(ClassifierMixin, BaseEstimator):
             check_is_fitted(self)
         if X.shape[0] >= _ONE_THREAD_MIN_ROWS:
             # the classifier's products are thin: BLAS threads only cost here
-            with _blas_controller().limit(limits=1, user_api="blas"):
+            with _one_blas_thread():
                 proba = self.classifier_.predict_proba(X)
         else:
             proba = self.classifier_.predict_proba(X)

@@ -111,8 +111,8 @@ class LineScanner:
         Grey rows held back to choose what is ``"auto"``, when needed.
     latency : int, default=0
         Rows an object may wait after its last row before it is emitted: rows
-        fed in small chunks are staged and run through the kernel
-        ``latency // 4`` at a time, and the objects completed meanwhile are
+        fed in chunks of fewer rows are staged and run through the kernel
+        ``latency`` at a time, and the objects completed meanwhile are
         measured and classified in one batch (much cheaper per row and per
         object when rows come one per call). 0: every row is processed when
         fed and an object is emitted in the call that receives the row after
@@ -199,14 +199,15 @@ class LineScanner:
         self.latency = check_positive_int(latency, "latency", minimum=0)
         check_total(self.latency * self.width, "the rows held for the latency (latency x width)")
         # with a latency, rows fed one by one are staged and run through the
-        # kernel together; objects then wait at most the rest of the latency
-        self._stage_rows = max(1, self.latency // 4)
-        self._hold = self.latency - self._stage_rows if self.latency else 0
+        # kernel a latency at a time: an object whose last row comes just after
+        # a run waits the whole latency, and those of a stage go in one batch
+        self._stage_rows = max(1, self.latency)
         self._stage: np.ndarray | None = None
-        self._slots: list[np.ndarray] = []
+        self._slots: list[Any] = []  # memoryviews of the stage's rows
         self._n_stage = 0
         self._fast_dtype: np.dtype | None = None
         self._row_shape = (self.width,)
+        self._one_row = (1, self.width)
         self.nominal_size = nominal_size
         self.rows_seen = 0
         self.n_emitted = 0
@@ -217,7 +218,6 @@ class LineScanner:
         # row, last row, first column, area, runs start, runs stop) and their runs
         self._pend = np.zeros((0, seg.N_OUT_FIELDS), dtype=np.int64)
         self._pend_runs = np.zeros((0, 3), dtype=np.int64)
-        self._pend_oldest = np.iinfo(np.int64).max  # the smallest last row pending
         # room for the runs of two full rows in labels and four in runs: the kernel
         # needs a row's worth free before each row, and would otherwise stop to
         # grow the pools several times at the start of a wide belt
@@ -338,12 +338,13 @@ class LineScanner:
         if (
             type(rows) is np.ndarray
             and rows.dtype is self._fast_dtype
-            and rows.shape == self._row_shape
+            and ((shape := rows.shape) == self._row_shape or shape == self._one_row)
             and not self._partial
         ):
             # one row of a type that needs no checks, to the stage (a camera's case)
             k = self._n_stage
-            self._slots[k][...] = rows  # (a copy of the same dtype: no cast)
+            # (a copy of the same type and shape: no cast)
+            self._slots[k][:] = rows if len(shape) == 1 else rows[0]
             self._n_stage = k = k + 1
             self.rows_seen += 1
             return self._drain() if k == self._stage_rows else []
@@ -399,9 +400,10 @@ class LineScanner:
                 if not binary and arr.dtype in (np.uint8, np.uint16)
                 else None
             )
-            # the stage's rows as views of that type, one per slot
+            # the stage's rows as buffers of that type, one per slot (a buffer's
+            # copy costs less than numpy's assignment; it takes any strides)
             fast = self._fast_dtype
-            self._slots = [] if fast is None else list(self._stage.view(fast))
+            self._slots = [] if fast is None else [memoryview(r) for r in self._stage.view(fast)]
         i = 0
         while i < arr.shape[0]:
             k = min(arr.shape[0] - i, self._stage_rows - self._n_stage)
@@ -466,7 +468,7 @@ class LineScanner:
             return []
         out = self._run(self._release()) if self._held else []
         out += self._drain()
-        return out + self._emit(final=False, hold=0)
+        return out + self._emit(final=False)
 
     def close(self) -> list[ScannedObject]:
         """End the stream: emit the objects still open at its last row.
@@ -565,7 +567,7 @@ class LineScanner:
                 break
         if kept:
             self._keep(kept)
-        return self._emit(final, self._hold) if self._pend.shape[0] else []
+        return self._emit(final) if self._pend.shape[0] else []
 
     def _keep(self, kept: list[tuple[np.ndarray, np.ndarray]]) -> None:
         """Add the objects the kernel output (rows and their runs, per call) to those pending."""
@@ -577,23 +579,18 @@ class LineScanner:
             outs.append(new)
         self._pend = np.concatenate(outs)
         self._pend_runs = np.concatenate([self._pend_runs, *(runs for _, runs in kept)])
-        self._pend_oldest = min(self._pend_oldest, int(self._pend[:, 2].min()))
 
-    def _emit(self, final: bool, hold: int) -> list[ScannedObject]:
+    def _emit(self, final: bool) -> list[ScannedObject]:
         """Records of the pending objects that may go: all at the end of the stream.
 
         Too-tall objects cut at the newest row wait for the next row, so that ids
-        (by last row) never depend on where a chunk ends; with a latency, the
-        complete objects wait (up to ``hold`` rows) to be inspected in one batch.
+        (by last row) never depend on where a chunk ends.
         """
         pend = self._pend
         go = np.ones(pend.shape[0], dtype=bool)
         if not final:
-            newest = self._done_rows - 1
-            if newest - self._pend_oldest < hold:  # none has waited long enough
-                return []
-            go = pend[:, 2] < newest
-            if not go.any() or newest - int(pend[go, 2].min()) < hold:
+            go = pend[:, 2] < self._done_rows - 1
+            if not go.any():
                 return []
         out = pend[go]
         out = out[np.lexsort((out[:, 1], out[:, 3], out[:, 2]))]  # by last row, column, first
@@ -601,10 +598,8 @@ class LineScanner:
         if go.all():
             self._pend = pend[:0]
             self._pend_runs = runs[:0]
-            self._pend_oldest = np.iinfo(np.int64).max
         else:
             self._pend, self._pend_runs = seg.compact_output(pend[~go], runs)
-            self._pend_oldest = int(self._pend[:, 2].min())
         whole = out[:, 0] == 0
         inspections: list[Inspection] = []
         if whole.any():
