@@ -153,6 +153,9 @@ def test_format_and_max_height_options():
     assert result.exit_code == 0, result.output
     (obj,) = _lines(result)
     assert obj["label"] is None and obj["defects"][0]["kind"] == "too_tall"
+    assert "1 rejected (unclassified 1)" in result.stderr  # not Python's "None"
+    as_json = CliRunner().invoke(scan, ["-", "--max-height", "5", "--summary", "json"], input=tall)
+    assert json.loads(as_json.stdout.splitlines()[-1])["summary"]["classes"] == {"unclassified": 1}
     wrong = CliRunner().invoke(scan, ["-", "--format", "pbm"], input=TEXT)
     assert wrong.exit_code == 1 and "PBM" in wrong.stderr
 

@@ -24,7 +24,7 @@ from .._lazy import import_extra
 from .._validation import check_angle_range, check_total_turn
 from ..io._deploy import predict_with_proba
 from ..report import classification_table
-from .options import make_folder, parse_angle_rows, read_angle_file
+from .options import class_count_key, make_folder, parse_angle_rows, read_angle_file
 
 #: Arrays read, featurised and classified per step.
 BLOCK_ROWS = 65536
@@ -221,7 +221,7 @@ def _write_objects(objects: list, out: Any, stats: Counter) -> None:
         out.write(json.dumps(obj.to_dict()) + "\n")
         stats["objects"] += 1
         stats["accepted"] += bool(obj.accept)
-        stats[f"class:{obj.label}"] += 1
+        stats[class_count_key(obj.label)] += 1
 
 
 def classify_files(pattern: str, out_dir: Path, client: Any,

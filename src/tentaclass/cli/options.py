@@ -480,3 +480,12 @@ def predict_on(model: Any, X: np.ndarray, client: Any, block_rows: int = 65536) 
     n_blocks = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})))
     rows = max(1, min(block_rows, -(-X.shape[0] // n_blocks)))
     return client.compute(model.predict(da.from_array(X, chunks=(rows, -1)))).result()
+
+
+def class_count_key(label: object) -> str:
+    """The scan summary's counter key of an object's class.
+
+    An object rejected before it was classified (``label`` None, e.g. taller
+    than ``--max-height``) counts as ``unclassified``.
+    """
+    return f"class:{'unclassified' if label is None else label}"

@@ -28,6 +28,7 @@ from .._validation import MAX_AXIS, MAX_INT64, MAX_SAMPLES
 from ..errors import TentaclassError
 from .options import (
     OutputFile,
+    class_count_key,
     files_options,
     finite,
     note,
@@ -64,7 +65,7 @@ def _emit(objects: list, stats: Counter, out: list | None) -> None:
         click.echo(json.dumps(obj.to_dict()))
         stats["objects"] += 1
         stats["accepted" if obj.accept else "rejected"] += 1
-        stats[f"class:{obj.label}"] += 1
+        stats[class_count_key(obj.label)] += 1
         for d in obj.defects:
             stats[f"defect:{d.kind}"] += 1
         if out is not None:
