@@ -336,6 +336,9 @@ def test_train_missing_labels_and_other_bad_input(tmp_path, outline_files):
         # ranges the chain cannot wrap were found after every outline was read (exit code 1)
         (run(*base, "--links", 16, "--offset", "0,20"), "offset must stay below"),
         (run(*base, "--links", 16, "--laps", "1,9"), "16 links cannot close 9 laps"),
+        # a chain too short for a default range: the message says it was the default
+        (run(*base, "--links", 3), "(the default --laps 1,2: give other values)"),
+        (run(*base, "--links", 4), "(the default --offset 0,2: give other values)"),
         (run(*base, "--links", 16, "--diameters", "0.5,2"), "diameters must be at least 1 link"),
         (run(*base, "--links", 16, "--noise", "7"), "noise must be at most 2*pi radians"),
         (run(*base, "--links", 16, "--offset", "-1,0"), "offset must be a finite number >= 0"),

@@ -485,7 +485,12 @@ def train(
         check_chain_settings(n_links, link_length, laps=laps, diameters=diameters,
                              offset=offset, noise=noise, mode=mode)  # fmt: skip
     except InputError as exc:
-        raise click.UsageError(str(exc)) from None
+        given = {"--laps": laps_text if diameters is None else "", "--offset": offset_text}
+        left = [f"{name} {_show(value)}" for name, value in
+                (("--laps", laps), ("--offset", offset))
+                if given[name] is None and name[2:] in str(exc)]  # fmt: skip
+        hint = f" (the default {' and '.join(left)}: give other values)" if left else ""
+        raise click.UsageError(f"{exc}{hint}") from None
     files = _outline_files(outlines)
     if labels_file is not None:
         table = read_labels(labels_file)
@@ -558,3 +563,8 @@ def _train_on_arrays(
         f"{classifier}: {len(model.classes_)} classes ({names}), {X.shape[0]} samples of "
         f"{X.shape[1]} joints, spread {used:.4g}, training accuracy {accuracy:.3f} -> {out}"
     )
+
+
+def _show(pair: tuple[float, float] | None) -> str:
+    """A MIN,MAX range as the user would type it."""
+    return ",".join(f"{v:g}" for v in pair) if pair is not None else ""
