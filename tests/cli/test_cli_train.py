@@ -170,6 +170,8 @@ def test_truncated_model_file(tmp_path, npz):
         # a complex y was "Complex data not supported"; an empty label trained a class ''
         (None, "cplx.npz", "cplx.npz: y must hold labels (strings or integers), got complex128"),
         (None, "emptylabel.npz", "emptylabel.npz: label 2 is empty"),
+        # a NaN label was scikit-learn's "Input y contains NaN.", naming no file
+        (None, "nanlabel.npz", "nanlabel.npz: label 2 is nan, not a class"),
         ("0,0,pi,a\n0,0,pi,pi,b\n", "ragged.csv", "different numbers"),
         ("0,0,pi,a\n0,x,pi,b\n", "bad.csv", "line 2"),
         ("# only comments\n", "empty.csv", "no labelled angle arrays"),
@@ -197,6 +199,8 @@ def test_bad_training_files(tmp_path, content, name, message):
         np.savez(path, X=X, y=np.arange(4) + 1j)
     elif name == "emptylabel.npz":
         np.savez(path, X=X, y=np.array(["a", "b", "", "b"]))
+    elif name == "nanlabel.npz":
+        np.savez(path, X=X, y=np.array([0.0, 1.0, np.nan, 1.0]))
     elif name == "nan.npz":
         X[0, 0] = np.nan
         np.savez(path, X=X, y=np.array(["a", "b"] * 2))

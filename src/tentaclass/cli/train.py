@@ -86,6 +86,9 @@ def _read_npz(path: Path) -> tuple[np.ndarray, np.ndarray]:
     empty = np.flatnonzero(y == y.dtype.type()) if y.dtype.kind in "US" else np.array([])
     if empty.size:  # as a CSV row's empty label is refused
         raise ValueError(f"{path}: label {int(empty[0])} is empty")
+    bad = np.flatnonzero(~np.isfinite(y)) if y.dtype.kind == "f" else np.array([])
+    if bad.size:  # a NaN label is no class
+        raise ValueError(f"{path}: label {int(bad[0])} is {y[bad[0]]}, not a class")
     return X.astype(np.float64), y
 
 
