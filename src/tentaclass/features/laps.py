@@ -117,12 +117,13 @@ def _periods(heading: FloatArray, points: np.ndarray, start: FloatArray) -> Floa
         now = _interp(h, np.broadcast_to(s - 0.5, (m, len(s))))[:, None, :]
         # only lap lengths whose ends meet for some row are scored (the others cost inf):
         # a wrap of many laps or a short chain leaves few of the 10 * n candidates
-        live = np.flatnonzero(_ends_meet(h, p, a, cands)[1].any(axis=0))
+        gap, meet = _ends_meet(h, p, a, cands)
+        live = np.flatnonzero(meet.any(axis=0))
         cost = np.full((m, len(cands)), np.inf)
         step = max(1, _WORK_VALUES // (m * len(s)))
         for c in range(0, len(live), step):
             cols = live[c : c + step]
-            cost[:, cols] = _lap_costs(h, p, a, now, cands[cols], s)
+            cost[:, cols] = _lap_costs(h, a, now, cands[cols], s, gap[:, cols], meet[:, cols])
         best = np.argmin(cost, axis=1)
         found = np.isfinite(cost[np.arange(m), best])
         out[lo : lo + chunk] = np.where(found, cands[best], np.nan)
@@ -130,12 +131,19 @@ def _periods(heading: FloatArray, points: np.ndarray, start: FloatArray) -> Floa
 
 
 def _lap_costs(
-    h: FloatArray, p: np.ndarray, a: FloatArray, now: FloatArray, cands: FloatArray, s: np.ndarray
+    h: FloatArray,
+    a: FloatArray,
+    now: FloatArray,
+    cands: FloatArray,
+    s: np.ndarray,
+    gap: FloatArray,
+    meet: np.ndarray,
 ) -> FloatArray:
     """:func:`_periods`'s cost of each lap length ``cands`` for rows ``h`` (inf: refused).
 
-    ``p`` the rows' complex joints, ``a`` their surface starts, ``now`` the
-    headings at the arc positions ``s``. Shape (rows, candidates).
+    ``a`` the rows' surface starts, ``now`` the headings at the arc positions
+    ``s``, ``gap`` and ``meet`` those of :func:`_ends_meet` for ``cands``.
+    Shape (rows, candidates).
     """
     m, n = h.shape
     earlier = s[None, None, :] - cands[None, :, None]  # (1, c, s)
@@ -144,7 +152,6 @@ def _lap_costs(
     diff = (now - then - 2 * np.pi) ** 2
     count = valid.sum(axis=2)
     cost = np.where(valid, diff, 0.0).sum(axis=2) / np.maximum(count, 1)
-    gap, meet = _ends_meet(h, p, a, cands)
     cost = cost + gap**2
     # a lap overlaps itself by a link or more and its ends meet again
     ok = (count >= 2) & meet
